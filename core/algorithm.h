@@ -1,0 +1,98 @@
+// What the scheduler runs: an Algorithm renders a RenderScene under a budget, watching a cancel
+// flag and reporting progress and previews through a RenderObserver. Algorithms register
+// themselves by name (pt, bdpt, mlt, partitioned, guided), so front ends and the service only
+// ever name them.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image.h"
+#include "render_settings.h"
+
+namespace partita {
+
+class RenderScene;
+class Camera;
+class ThreadPool;
+
+/// Thrown out of Algorithm::render when the cancel flag is raised.
+struct RenderCancelled {};
+
+/// One progress report. `done`/`total` are in `unit` (e.g. "samples", "mutations").
+struct RenderProgress {
+    std::string phase;  // "prepass", "render", ...
+    double done = 0, total = 0;
+    std::string unit;
+    double ratePerSecond = 0;
+    double etaSeconds = -1;  // < 0: unknown
+    double elapsedSeconds = 0;
+};
+
+/// Named scalar statistics an algorithm reports (acceptance, b_i, ...), and named strings.
+struct RenderStats {
+    std::map<std::string, double> values;
+    std::map<std::string, std::string> labels;
+};
+
+class RenderObserver {
+public:
+    virtual ~RenderObserver() = default;
+    virtual void onProgress(const RenderProgress&) {}
+    /// A preview of the work so far, at most once per preview interval, and never for the final
+    /// result (that is returned by render()).
+    virtual void onPreview(const LayeredImage&, const RenderStats&) {}
+};
+
+struct RenderContext {
+    const RenderScene& scene;
+    const Camera& camera;
+    const RenderSettings& settings;
+    ThreadPool& pool;
+    const std::atomic<bool>& cancel;
+    RenderObserver& observer;
+
+    void throwIfCancelled() const {
+        if (cancel.load(std::memory_order_relaxed)) throw RenderCancelled{};
+    }
+};
+
+struct RenderResult {
+    LayeredImage image;
+    RenderStats stats;
+};
+
+class Algorithm {
+public:
+    virtual ~Algorithm() = default;
+    virtual RenderResult render(const RenderContext& ctx) = 0;
+};
+
+/// The registry of algorithms by name.
+class AlgorithmRegistry {
+public:
+    using Factory = std::function<std::unique_ptr<Algorithm>()>;
+    struct Entry {
+        std::string name, description;
+        BudgetKind nativeBudget;  // samples for pt/bdpt, mutations for the MCMC methods
+        Factory factory;
+    };
+
+    static AlgorithmRegistry& instance();
+    void add(Entry entry);
+    const Entry* find(const std::string& name) const;
+    std::vector<std::string> names() const;
+
+private:
+    std::map<std::string, Entry> entries_;
+};
+
+/// Registers every built-in algorithm; idempotent. Called by front ends at start-up (static
+/// registration from a static library would be dropped by the linker).
+void registerBuiltinAlgorithms();
+
+}  // namespace partita

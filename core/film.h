@@ -1,0 +1,60 @@
+// The film: accumulates path contributions into a combined image and one image per path type.
+//
+// Storage is tiled and sparse in types: each tile keeps a buffer only for the types that
+// actually reached it, so memory follows the types that occur, not the combinatorial number of
+// strings. `resolve` keeps the `maxTypeLayers` types with the largest total luminance (ties
+// broken by type order, so the result is deterministic) and merges the rest into "other".
+//
+// Thread safety: concurrent addSample calls are safe when they touch different tiles (the path
+// tracer renders whole tiles per task). Algorithms that splat anywhere (MLT) give each thread
+// its own Film and `merge` them in a fixed order.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "image.h"
+#include "math/vec.h"
+#include "path_type.h"
+
+namespace partita {
+
+class Film {
+public:
+    static constexpr int kTileSize = 16;
+    static constexpr const char* kOtherLayer = "other";
+
+    Film(int width, int height);
+    ~Film();
+    Film(Film&&) noexcept;
+    Film& operator=(Film&&) noexcept;
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int tilesX() const { return (width_ + kTileSize - 1) / kTileSize; }
+    int tilesY() const { return (height_ + kTileSize - 1) / kTileSize; }
+
+    /// Add `value` of a path of `type` to pixel (x, y). Non-finite values are dropped and counted.
+    void addSample(int x, int y, PathType type, Rgb value);
+
+    /// Sum another film of the same size into this one.
+    void merge(const Film& other);
+    void clear();
+
+    /// The combined image and the type layers, every value multiplied by `scale` (e.g. 1/spp).
+    LayeredImage resolve(float scale, int maxTypeLayers) const;
+    /// Only the combined image, cheaper than resolve (for previews).
+    Image resolveCombined(float scale) const;
+
+    /// Number of distinct path types seen so far and of dropped non-finite samples.
+    size_t typeCount() const;
+    uint64_t droppedSamples() const;
+
+private:
+    struct Tile;
+    int width_ = 0, height_ = 0;
+    std::vector<std::unique_ptr<Tile>> tiles_;
+    Tile& tileFor(int x, int y);
+};
+
+}  // namespace partita

@@ -1,0 +1,38 @@
+#include "render_settings.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace partita {
+
+std::string validateSettings(const RenderSettings& s, const RenderLimits& limits) {
+    std::ostringstream err;
+    if (s.width < 1 || s.height < 1 || s.width > limits.maxWidth || s.height > limits.maxHeight)
+        err << "resolution " << s.width << "x" << s.height << " is outside 1x1.." << limits.maxWidth
+            << "x" << limits.maxHeight;
+    else if (!std::isfinite(s.budget) || s.budget <= 0)
+        err << "budget must be a positive number, got " << s.budget;
+    else if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
+        err << "time budget " << s.budget << " s exceeds the limit of " << limits.maxSeconds << " s";
+    else if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
+        err << "budget " << s.budget << " per pixel exceeds the limit of " << limits.maxSamplesPerPixel;
+    else if (s.budgetKind != BudgetKind::Seconds && s.budget != std::floor(s.budget))
+        err << "samples/mutations per pixel must be a whole number, got " << s.budget;
+    else if (s.maxDepth < 1 || s.maxDepth > limits.maxDepth)
+        err << "max depth " << s.maxDepth << " is outside 1.." << limits.maxDepth;
+    else if (s.partitions < 1 || s.partitions > 64)
+        err << "K (partitions) " << s.partitions << " is outside 1..64";
+    else if (s.guideCandidates < 1 || s.guideCandidates > 4096)
+        err << "|Y'| " << s.guideCandidates << " is outside 1..4096";
+    else if (!std::isfinite(s.guideRadius) || s.guideRadius <= 0 || s.guideRadius > 4096)
+        err << "radius R " << s.guideRadius << " is outside (0, 4096]";
+    else if (!std::isfinite(s.guideEpsilon) || s.guideEpsilon <= 0 || s.guideEpsilon > 1)
+        err << "epsilon " << s.guideEpsilon << " is outside (0, 1]";
+    else if (s.maxTypeLayers < 0 || s.maxTypeLayers > 1024)
+        err << "max type layers " << s.maxTypeLayers << " is outside 0..1024";
+    else if (!std::isfinite(s.previewIntervalSeconds) || s.previewIntervalSeconds < 0)
+        err << "preview interval must be >= 0 seconds";
+    return err.str();
+}
+
+}  // namespace partita

@@ -1,0 +1,43 @@
+// Everything a render job can set, with the defaults of DESIGN.md. Shared by the offline front
+// end, the service and the evaluation harness.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace partita {
+
+enum class BudgetKind { SamplesPerPixel, MutationsPerPixel, Seconds };
+
+struct RenderSettings {
+    int width = 320, height = 240;
+    std::string cameraName;  // empty = the scene's first camera (or a default framing camera)
+
+    BudgetKind budgetKind = BudgetKind::SamplesPerPixel;
+    double budget = 16;  // samples or mutations per pixel, or seconds
+
+    uint64_t seed = 1;
+    int maxDepth = 16;  // maximum number of scattering vertices on a path
+
+    // Method parameters (paper Section 4-5); ignored by algorithms that do not use them.
+    int partitions = 10;   // K
+    int guideCandidates = 128;  // |Y'|
+    float guideRadius = 10;     // R, pixels
+    float guideEpsilon = 0.01f; // epsilon of Eq. 17
+
+    int maxTypeLayers = 32;  // film layers kept before the rest merge into "other"
+    double previewIntervalSeconds = 1.0;
+};
+
+/// Limits a front end checks before rendering; a violation is a clear error, never a crash.
+struct RenderLimits {
+    int maxWidth = 8192, maxHeight = 8192;
+    double maxSamplesPerPixel = 1 << 20;
+    double maxSeconds = 7 * 24 * 3600.0;
+    int maxDepth = 1024;
+};
+
+/// Returns an empty string when the settings are valid, else one line saying what is wrong.
+std::string validateSettings(const RenderSettings& settings, const RenderLimits& limits = {});
+
+}  // namespace partita
