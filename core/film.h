@@ -10,6 +10,8 @@
 // its own Film and `merge` them in a fixed order.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -20,7 +22,7 @@
 namespace partita {
 
 class Film {
-public:
+  public:
     static constexpr int kTileSize = 16;
     static constexpr const char* kOtherLayer = "other";
 
@@ -35,13 +37,20 @@ public:
     int tilesY() const { return (height_ + kTileSize - 1) / kTileSize; }
 
     /// Add `value` of a path of `type` to pixel (x, y). Non-finite values are dropped and counted.
+    /// Black values change nothing (and do not register the type); a pixel outside the film is
+    /// ignored.
     void addSample(int x, int y, PathType type, Rgb value);
 
-    /// Sum another film of the same size into this one.
+    /// Sum another film of the same size into this one (std::invalid_argument otherwise), the
+    /// dropped-sample counts included.
     void merge(const Film& other);
     void clear();
 
     /// The combined image and the type layers, every value multiplied by `scale` (e.g. 1/spp).
+    /// Layers: the `maxTypeLayers` types (a negative count counts as 0) with the largest total
+    /// luminance, in decreasing order of it and named by PathType::toString(), then "other"
+    /// (always last) if any type was left out. Independent of the order in which types reached
+    /// a tile; only a pixel's float sum depends on the order of its own samples.
     LayeredImage resolve(float scale, int maxTypeLayers) const;
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
@@ -50,10 +59,11 @@ public:
     size_t typeCount() const;
     uint64_t droppedSamples() const;
 
-private:
+  private:
     struct Tile;
     int width_ = 0, height_ = 0;
     std::vector<std::unique_ptr<Tile>> tiles_;
+    std::atomic<uint64_t> dropped_{0};  // non-finite samples, counted off the hot path
     Tile& tileFor(int x, int y);
 };
 

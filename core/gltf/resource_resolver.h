@@ -46,4 +46,7 @@ private:
 /// component, no scheme, no backslash, no NUL. Returns an empty string or the reason it is refused.
 std::string checkRelativeUri(const std::string& uri);
 
+/// `uri` made safe for a one-line message: control bytes become '?', long names are cut.
+std::string printableUri(const std::string& uri);
+
 }  // namespace partita

@@ -1,0 +1,308 @@
+#include "image_io.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <stdexcept>
+#include <system_error>
+
+namespace partita {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kLayerOrderAttribute = "partita:layers";
+
+std::string quoted(const fs::path& p) {
+    std::string s(1, '\'');
+    s += p.string();
+    s += '\'';
+    return s;
+}
+
+/// fsync a file or directory; best effort (a failure here does not lose the data written).
+void syncPath(const fs::path& p, bool directory) {
+    int fd = ::open(p.c_str(), O_RDONLY | (directory ? O_DIRECTORY : 0));
+    if (fd < 0) return;
+    ::fsync(fd);
+    ::close(fd);
+}
+
+/// Write a file atomically: `writeTmp` writes the content to the temporary path it is given and
+/// returns an error message ("" on success); the file is then flushed and renamed over `path`.
+void writeAtomically(const fs::path& path, const char* what,
+                     const std::function<std::string(const fs::path&)>& writeTmp) {
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw std::runtime_error(std::string("cannot write ") + what + " " + quoted(path) +
+                                 ": directory " + quoted(dir) + " does not exist");
+    if (fs::is_directory(path, ec))
+        throw std::runtime_error(std::string("cannot write ") + what + " " + quoted(path) +
+                                 ": it is a directory");
+
+    // pid for processes sharing a folder, a counter for threads of this process.
+    static std::atomic<unsigned> counter{0};
+    fs::path tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+
+    std::string error = writeTmp(tmp);
+    if (error.empty()) {
+        syncPath(tmp, false);
+        fs::rename(tmp, path, ec);
+        if (ec) error = "rename from " + quoted(tmp) + " failed: " + ec.message();
+    }
+    if (!error.empty()) {
+        fs::remove(tmp, ec);
+        throw std::runtime_error(std::string("cannot write ") + what + " " + quoted(path) + ": " +
+                                 error);
+    }
+    syncPath(dir, true);
+}
+
+std::string oiioError(const OIIO::ImageOutput* out) {
+    std::string e = out ? out->geterror() : std::string();
+    if (e.empty()) e = OIIO::geterror();
+    return e.empty() ? "unknown OpenImageIO error" : e;
+}
+
+std::string oiioError(const OIIO::ImageInput* in) {
+    std::string e = in ? in->geterror() : std::string();
+    if (e.empty()) e = OIIO::geterror();
+    return e.empty() ? "unknown OpenImageIO error" : e;
+}
+
+std::vector<std::string> splitLayerOrder(const std::string& s) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= s.size()) {
+        size_t end = s.find(',', start);
+        if (end == std::string::npos) end = s.size();
+        if (end > start) out.push_back(s.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+/// Linear values at which the 8-bit code steps from b-1 to b (b = 1..255): the inverse sRGB
+/// curve at (b - 0.5) / 255. Counting the thresholds <= v is rounding the exact curve to the
+/// nearest code (halves up) without a pow per value.
+const std::array<double, 255>& srgbThresholds() {
+    static const std::array<double, 255> table = [] {
+        std::array<double, 255> t{};
+        for (int b = 1; b <= 255; ++b) {
+            const double e = (b - 0.5) / 255.0;
+            t[b - 1] = e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+        }
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace
+
+void writeExr(const fs::path& path, const LayeredImage& image,
+              const std::map<std::string, std::string>& metadata) {
+    const int w = image.combined.width, h = image.combined.height;
+    auto fail = [&](const std::string& why) {
+        throw std::runtime_error("cannot write EXR " + quoted(path) + ": " + why);
+    };
+    if (w <= 0 || h <= 0) fail("the image is empty");
+    if (image.combined.rgb.size() != size_t(w) * h * 3)
+        fail("combined image has a wrong buffer size");
+
+    std::vector<std::string> channels = {"R", "G", "B"};
+    std::string order;
+    for (const auto& layer : image.layers) {
+        if (layer.image.width != w || layer.image.height != h ||
+            layer.image.rgb.size() != size_t(w) * h * 3)
+            fail("layer '" + layer.name + "' is not the size of the combined image");
+        if (layer.name.empty() || layer.name.find_first_of(",\n") != std::string::npos)
+            fail("invalid layer name '" + layer.name + "'");
+        for (const auto& other : image.layers)
+            if (&other != &layer && other.name == layer.name)
+                fail("duplicate layer name '" + layer.name + "'");
+        for (const char* c : {".R", ".G", ".B"}) channels.push_back(layer.name + c);
+        order += (order.empty() ? "" : ",") + layer.name;
+    }
+
+    // Interleave all channels of a pixel, as OIIO expects.
+    const size_t nch = channels.size(), npix = size_t(w) * h;
+    std::vector<float> data(npix * nch);
+    for (size_t p = 0; p < npix; ++p) {
+        float* dst = &data[p * nch];
+        for (int k = 0; k < 3; ++k) dst[k] = image.combined.rgb[p * 3 + k];
+        for (size_t l = 0; l < image.layers.size(); ++l)
+            for (int k = 0; k < 3; ++k) dst[3 + l * 3 + k] = image.layers[l].image.rgb[p * 3 + k];
+    }
+
+    OIIO::ImageSpec spec(w, h, int(nch), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = channels;
+    spec.attribute("compression", "zip");
+    for (const auto& [key, value] : metadata) spec.attribute(key, value);
+    if (!image.layers.empty()) spec.attribute(kLayerOrderAttribute, order);
+
+    writeAtomically(path, "EXR", [&](const fs::path& tmp) -> std::string {
+        // By format name: the temporary file's extension does not say "exr".
+        auto out = OIIO::ImageOutput::create("exr");
+        if (!out) return "no EXR writer: " + oiioError(out.get());
+        if (!out->open(tmp.string(), spec)) return oiioError(out.get());
+        if (!out->write_image(OIIO::TypeDesc::FLOAT, data.data())) {
+            std::string e = oiioError(out.get());
+            out->close();
+            return e;
+        }
+        if (!out->close()) return oiioError(out.get());
+        return {};
+    });
+}
+
+LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* metadata) {
+    auto fail = [&](const std::string& why) {
+        throw std::runtime_error("cannot read image " + quoted(path) + ": " + why);
+    };
+    std::error_code ec;
+    if (!fs::exists(path, ec)) fail("no such file");
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) fail(oiioError(in.get()));
+    const OIIO::ImageSpec spec = in->spec();
+    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+    if (w <= 0 || h <= 0 || nch <= 0) fail("empty image");
+    if (spec.depth > 1) fail("volume images are not supported");
+    const size_t npix = size_t(w) * h;
+    std::vector<float> data(npix * nch);
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, data.data()))
+        fail(oiioError(in.get()));
+    in->close();
+
+    auto channelIndex = [&](const std::string& name) {
+        for (int c = 0; c < nch; ++c)
+            if (spec.channel_name(c) == name) return c;
+        return -1;
+    };
+    auto extract = [&](const std::array<int, 3>& idx) {
+        Image img(w, h);
+        for (size_t p = 0; p < npix; ++p)
+            for (int k = 0; k < 3; ++k) img.rgb[p * 3 + k] = data[p * nch + idx[k]];
+        return img;
+    };
+
+    // Layers: complete "<name>.R/.G/.B" triples, by first appearance.
+    std::vector<std::pair<std::string, std::array<int, 3>>> found;
+    for (int c = 0; c < nch; ++c) {
+        const std::string name = spec.channel_name(c);
+        const size_t dot = name.rfind('.');
+        if (dot == std::string::npos || dot == 0 || dot + 2 != name.size()) continue;
+        const int k = name.back() == 'R' ? 0 : name.back() == 'G' ? 1 : name.back() == 'B' ? 2 : -1;
+        if (k < 0) continue;
+        const std::string layer = name.substr(0, dot);
+        auto it = std::find_if(found.begin(), found.end(),
+                               [&](const auto& f) { return f.first == layer; });
+        if (it == found.end()) it = found.insert(found.end(), {layer, {-1, -1, -1}});
+        it->second[k] = c;
+    }
+    std::erase_if(
+        found, [](const auto& f) { return f.second[0] < 0 || f.second[1] < 0 || f.second[2] < 0; });
+
+    // Reorder as writeExr was given them; unknown names keep their place after those.
+    const std::vector<std::string> order =
+        splitLayerOrder(std::string(spec.get_string_attribute(kLayerOrderAttribute)));
+    auto rank = [&](const std::string& name) {
+        return size_t(std::find(order.begin(), order.end(), name) - order.begin());
+    };
+    std::stable_sort(found.begin(), found.end(),
+                     [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
+
+    LayeredImage out;
+    const std::array<int, 3> rgb = {channelIndex("R"), channelIndex("G"), channelIndex("B")};
+    if (rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0)
+        out.combined = extract(rgb);
+    else if (!found.empty())
+        out.combined = Image(w, h);  // layers without a combined image
+    else if (nch >= 3)
+        out.combined = extract({0, 1, 2});
+    else
+        out.combined = extract({0, 0, 0});
+    for (const auto& [name, idx] : found) out.layers.push_back({name, extract(idx)});
+
+    if (metadata) {
+        metadata->clear();
+        for (const auto& p : spec.extra_attribs) {
+            if (p.type() != OIIO::TypeDesc::STRING || p.nvalues() != 1) continue;
+            std::string key(p.name());
+            if (key == kLayerOrderAttribute) continue;
+            (*metadata)[key] = p.get_ustring().string();
+        }
+    }
+    return out;
+}
+
+uint8_t encodeSrgb8(float linear) {
+    if (!(linear > 0.0f)) return 0;  // negative, zero and NaN
+    if (linear >= 1.0f) return 255;
+    const auto& t = srgbThresholds();
+    return uint8_t(std::upper_bound(t.begin(), t.end(), double(linear)) - t.begin());
+}
+
+std::vector<uint8_t> encodePng(const Image& image, float exposureStops) {
+    const int w = image.width, h = image.height;
+    if (w <= 0 || h <= 0 || image.rgb.size() != size_t(w) * h * 3)
+        throw std::runtime_error("cannot encode PNG: the image is empty or malformed");
+    const float scale = std::exp2(exposureStops);
+    std::vector<uint8_t> pixels(image.rgb.size());
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = encodeSrgb8(image.rgb[i] * scale);
+
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) throw std::runtime_error("cannot encode PNG: no PNG writer: " + oiioError(out.get()));
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    if (!out->set_ioproxy(&proxy) || !out->open("preview.png", spec) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())
+        throw std::runtime_error("cannot encode PNG: " + oiioError(out.get()));
+    return std::vector<uint8_t>(bytes.begin(), bytes.end());
+}
+
+void writePng(const fs::path& path, const Image& image, float exposureStops) {
+    std::vector<uint8_t> bytes;
+    try {
+        bytes = encodePng(image, exposureStops);
+    } catch (const std::exception& e) {
+        throw std::runtime_error("cannot write PNG " + quoted(path) + ": " + e.what());
+    }
+    writeAtomically(path, "PNG", [&](const fs::path& tmp) -> std::string {
+        std::FILE* f = std::fopen(tmp.c_str(), "wb");
+        if (!f) return std::error_code(errno, std::generic_category()).message();
+        const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+        const int err = errno;
+        if (std::fclose(f) != 0 || !ok)
+            return "write failed: " +
+                   std::error_code(ok ? errno : err, std::generic_category()).message();
+        return {};
+    });
+}
+
+float autoExposure(const Image& image) {
+    std::vector<float> lum;
+    lum.reserve(size_t(image.width) * image.height);
+    for (size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+        const float l = luminance({image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]});
+        if (l > 0 && std::isfinite(l)) lum.push_back(l);
+    }
+    if (lum.empty()) return 0;
+    const size_t k = size_t(0.99 * double(lum.size() - 1));
+    std::nth_element(lum.begin(), lum.begin() + k, lum.end());
+    return float(std::log2(0.9 / double(lum[k])));
+}
+
+}  // namespace partita

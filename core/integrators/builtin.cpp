@@ -1,0 +1,13 @@
+#include <mutex>
+
+#include "algorithm.h"
+#include "integrators/pt/pt_integrator.h"
+
+namespace partita {
+
+void registerBuiltinAlgorithms() {
+    static std::once_flag once;
+    std::call_once(once, [] { registerPathTracer(); });
+}
+
+}  // namespace partita

@@ -1,0 +1,149 @@
+#include "integrators/pt/path_sampler.h"
+
+#include <cmath>
+
+#include "bsdf.h"
+#include "render_scene.h"
+
+namespace partita {
+
+namespace {
+
+Rgb beerLambert(Rgb sigmaA, float distance) {
+    if (isBlack(sigmaA)) return Rgb(1.0f);
+    return {std::exp(-sigmaA.x * distance), std::exp(-sigmaA.y * distance), std::exp(-sigmaA.z * distance)};
+}
+
+/// Absorption coefficient of a KHR_materials_volume: attenuationColor is the colour white light
+/// has after travelling attenuationDistance, so sigma_a = -ln(c) / d.
+Rgb absorptionOf(const Material& m) {
+    if (!m.hasVolume || !std::isfinite(m.attenuationDistance) || m.attenuationDistance <= 0) return Rgb(0.0f);
+    Rgb s;
+    for (int k = 0; k < 3; ++k) s[k] = -std::log(std::max(m.attenuationColor[k], 1e-6f)) / m.attenuationDistance;
+    return s;
+}
+
+/// State carried from one vertex of the camera path to the next.
+struct PathState {
+    Rgb beta{1.0f};      // throughput f/p of the path so far
+    PathType type;       // scattering vertices so far, camera first
+    Vec3f prevPoint;     // previous scattering vertex, for the light pdf in MIS
+    float prevBsdfPdf = 0;
+    bool prevSpecular = true;  // camera rays count as specular: emitters seen directly get weight 1
+    float etaScale = 1;        // radiance scaling from refraction, removed for Russian roulette
+    Rgb mediumAbsorption{0.0f};
+    int contributions = 0;
+};
+
+class PathSampler {
+public:
+    PathSampler(const RenderScene& scene, Rng& rng, const PathSamplerSettings& settings, ContributionSink& sink,
+                PathCounters& counters)
+        : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
+
+    void run(Ray ray) {
+        for (int depth = 0;; ++depth) {
+            ++counters_.rays;
+            auto hit = scene_.intersect(ray);
+            if (!hit) return;
+            state_.beta *= beerLambert(state_.mediumAbsorption, hit->t * length(ray.d));
+            addEmission(*hit, -ray.d);
+            // This hit becomes scattering vertex number depth + 1.
+            if (depth + 1 > settings_.maxDepth) return;
+            Bsdf bsdf = scene_.bsdfAt(*hit);
+            PathType typeHere = state_.type.withVertex(bsdf.isDelta());
+            Vec3f wo = -normalize(ray.d);
+            if (!bsdf.isDelta()) addNextEvent(*hit, bsdf, wo, typeHere);
+            if (!continuePath(*hit, bsdf, wo, typeHere, ray, depth)) return;
+        }
+    }
+
+private:
+    void report(PathType type, Rgb value, bool viaNextEvent) {
+        PathContribution c;
+        c.type = type;
+        c.value = value;
+        c.index = state_.contributions++;
+        c.viaNextEvent = viaNextEvent;
+        sink_.add(c);
+    }
+
+    /// Emission seen by a BSDF-sampled (or camera) ray, MIS-weighted against light sampling.
+    void addEmission(const SurfaceHit& hit, Vec3f towardsPrevious) {
+        int light = scene_.areaLightIndex(hit);
+        if (light < 0) return;
+        Rgb le = scene_.emittedRadiance(hit, towardsPrevious);
+        if (isBlack(le)) return;
+        float weight = 1;
+        if (!state_.prevSpecular) {
+            float lightPdf = scene_.lightSelectionPmf(light) * scene_.areaLightPdf(light, state_.prevPoint, hit);
+            weight = powerHeuristic(state_.prevBsdfPdf, lightPdf);
+        }
+        report(state_.type, state_.beta * le * weight, false);
+    }
+
+    /// Next-event estimation: one light chosen by power, one point on it.
+    void addNextEvent(const SurfaceHit& hit, const Bsdf& bsdf, Vec3f wo, PathType typeHere) {
+        if (!scene_.hasLights()) return;
+        float uLight = rng_.nextFloat();
+        Vec2f uPoint{rng_.nextFloat(), rng_.nextFloat()};
+        int light = int(scene_.lightSelection().sample(uLight));
+        auto ls = scene_.sampleLight(light, hit.p, uPoint);
+        if (!ls || ls->pdf <= 0) return;
+        Rgb f = bsdf.eval(wo, ls->wi) * absDot(ls->wi, hit.ns);
+        if (isBlack(f)) return;
+        ++counters_.rays;
+        if (scene_.occluded(spawnShadowRay(hit.p, hit.ng, ls->point, ls->normal))) return;
+        float lightPdf = scene_.lightSelectionPmf(light) * ls->pdf;
+        float weight = ls->isDelta ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
+        report(typeHere, state_.beta * f * ls->radiance * (weight / lightPdf), true);
+    }
+
+    /// Samples the BSDF for the next direction; false when the path ends here.
+    bool continuePath(const SurfaceHit& hit, const Bsdf& bsdf, Vec3f wo, PathType typeHere, Ray& ray, int depth) {
+        float uc = rng_.nextFloat();
+        Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
+        auto bs = bsdf.sample(wo, uc, u);
+        if (!bs || bs->pdf <= 0) return false;
+        state_.beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdf);
+        if (isBlack(state_.beta) || !isFinite(state_.beta)) return false;
+        state_.type = typeHere;
+        state_.prevPoint = hit.p;
+        state_.prevBsdfPdf = bs->pdf;
+        state_.prevSpecular = bs->isDelta;
+        if (bs->isTransmission) {
+            state_.etaScale *= sqr(bs->eta);
+            // Entering when the new direction goes against the outward normal.
+            state_.mediumAbsorption = dot(bs->wi, hit.ng) < 0 ? absorptionOf(scene_.materialOf(hit)) : Rgb(0.0f);
+        }
+        if (!russianRoulette(depth)) return false;
+        ray = spawnRay(hit.p, hit.ng, bs->wi);
+        return true;
+    }
+
+    bool russianRoulette(int depth) {
+        if (depth + 1 < settings_.rouletteStartDepth) return true;
+        float survival = std::min(1.0f, maxComponent(state_.beta) * state_.etaScale);
+        if (survival >= 1) return true;
+        survival = std::max(survival, 0.05f);
+        if (rng_.nextFloat() >= survival) return false;
+        state_.beta /= survival;
+        return true;
+    }
+
+    const RenderScene& scene_;
+    Rng& rng_;
+    const PathSamplerSettings& settings_;
+    ContributionSink& sink_;
+    PathCounters& counters_;
+    PathState state_;
+};
+
+}  // namespace
+
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
+                ContributionSink& sink, PathCounters& counters) {
+    PathSampler(scene, rng, settings, sink, counters).run(primary);
+}
+
+}  // namespace partita

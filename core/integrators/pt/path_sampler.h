@@ -1,0 +1,49 @@
+// One camera path of the unidirectional path tracer: next-event estimation with multiple
+// importance sampling (power heuristic) against BSDF sampling, Russian roulette, a maximum
+// depth, and Beer-Lambert absorption inside KHR_materials_volume media.
+//
+// Every complete path the sampler forms (a BSDF-sampled ray hitting an emitter, or a
+// next-event connection to a light) is reported to a ContributionSink with its Heckbert type
+// and its MIS-weighted contribution C = w f / p. Because the sampler draws only from the Rng it
+// is given, re-running it from the same Rng state reproduces the same contributions in the same
+// order; `index` numbers them, which is how the pre-pass (paper Section 4.2) regenerates a path.
+#pragma once
+
+#include <cstdint>
+
+#include "math/vec.h"
+#include "path_type.h"
+#include "ray.h"
+#include "rng.h"
+
+namespace partita {
+
+class RenderScene;
+
+struct PathContribution {
+    PathType type;
+    Rgb value{0.0f};       // MIS-weighted contribution of this complete path
+    int index = 0;         // ordinal of this contribution within the camera path
+    bool viaNextEvent = false;
+};
+
+class ContributionSink {
+public:
+    virtual ~ContributionSink() = default;
+    virtual void add(const PathContribution& contribution) = 0;
+};
+
+struct PathSamplerSettings {
+    int maxDepth = 16;          // maximum number of scattering vertices
+    int rouletteStartDepth = 3; // Russian roulette from this many scattering vertices on
+};
+
+struct PathCounters {
+    uint64_t rays = 0;  // closest-hit plus occlusion queries
+};
+
+/// Traces the camera path that starts with `primary` and reports its contributions.
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
+                ContributionSink& sink, PathCounters& counters);
+
+}  // namespace partita

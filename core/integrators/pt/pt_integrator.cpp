@@ -1,0 +1,149 @@
+#include "integrators/pt/pt_integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "camera.h"
+#include "film.h"
+#include "integrators/pt/path_sampler.h"
+#include "progress_reporter.h"
+#include "render_scene.h"
+#include "sampling.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+Vec2f filteredRasterPosition(int x, int y, Vec2f u) {
+    return {float(x) + 0.5f + sampleTent(u.x), float(y) + 0.5f + sampleTent(u.y)};
+}
+
+namespace {
+
+/// Adds every contribution of one pixel's paths to the film.
+class FilmSink : public ContributionSink {
+public:
+    FilmSink(Film& film, int x, int y) : film_(film), x_(x), y_(y) {}
+    void add(const PathContribution& c) override { film_.addSample(x_, y_, c.type, c.value); }
+
+private:
+    Film& film_;
+    int x_, y_;
+};
+
+struct PassRange {
+    uint64_t firstSample, endSample;
+};
+
+class PathTracerRun {
+public:
+    explicit PathTracerRun(const RenderContext& ctx)
+        : ctx_(ctx), film_(ctx.settings.width, ctx.settings.height) {
+        samplerSettings_.maxDepth = ctx.settings.maxDepth;
+    }
+
+    RenderResult run() {
+        const RenderSettings& s = ctx_.settings;
+        bool timed = s.budgetKind == BudgetKind::Seconds;
+        uint64_t targetSpp = timed ? UINT64_MAX : uint64_t(s.budget);
+        double pixels = double(s.width) * s.height;
+        ProgressReporter progress(ctx_.observer, "render", "samples", timed ? 0 : pixels * double(targetSpp),
+                                  timed ? s.budget : 0);
+        auto start = std::chrono::steady_clock::now();
+        auto lastPreview = start;
+        uint64_t passSpp = 1;
+        while (sppDone_ < targetSpp) {
+            ctx_.throwIfCancelled();
+            uint64_t begin = sppDone_, end = std::min(targetSpp, sppDone_ + passSpp);
+            auto passStart = std::chrono::steady_clock::now();
+            renderPass({begin, end}, progress);
+            double passSeconds = secondsSince(passStart);
+            sppDone_ = end;
+            double elapsed = secondsSince(start);
+            if (timed && elapsed >= s.budget) break;
+            passSpp = nextPassSize(passSeconds / double(end - begin), elapsed);
+            if (s.previewIntervalSeconds > 0 && secondsSince(lastPreview) >= s.previewIntervalSeconds &&
+                sppDone_ < targetSpp) {
+                lastPreview = std::chrono::steady_clock::now();
+                ctx_.observer.onPreview(film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers), stats(elapsed));
+            }
+        }
+        progress.flush();
+        RenderResult result;
+        result.image = film_.resolve(1.0f / float(std::max<uint64_t>(1, sppDone_)), s.maxTypeLayers);
+        result.stats = stats(secondsSince(start));
+        return result;
+    }
+
+private:
+    static double secondsSince(std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    }
+
+    /// Passes sized to fill about one preview interval (or the rest of a time budget).
+    uint64_t nextPassSize(double secondsPerSpp, double elapsed) const {
+        const RenderSettings& s = ctx_.settings;
+        double window = s.previewIntervalSeconds > 0 ? s.previewIntervalSeconds : 1.0;
+        if (s.budgetKind == BudgetKind::Seconds) window = std::min(window, std::max(0.0, s.budget - elapsed));
+        if (!(secondsPerSpp > 0)) return 1;
+        return uint64_t(std::clamp(window / secondsPerSpp, 1.0, 1024.0));
+    }
+
+    void renderPass(PassRange range, ProgressReporter& progress) {
+        int tilesX = film_.tilesX();
+        size_t tileCount = size_t(tilesX) * film_.tilesY();
+        ctx_.pool.parallelFor(tileCount, [&](size_t tile) {
+            ctx_.throwIfCancelled();
+            int x0 = int(tile % tilesX) * Film::kTileSize, y0 = int(tile / tilesX) * Film::kTileSize;
+            int x1 = std::min(x0 + Film::kTileSize, film_.width());
+            int y1 = std::min(y0 + Film::kTileSize, film_.height());
+            PathCounters counters;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) renderPixel(x, y, range, counters);
+            rays_.fetch_add(counters.rays, std::memory_order_relaxed);
+            progress.advance(double(x1 - x0) * (y1 - y0) * double(range.endSample - range.firstSample));
+        });
+    }
+
+    void renderPixel(int x, int y, PassRange range, PathCounters& counters) {
+        FilmSink sink(film_, x, y);
+        for (uint64_t s = range.firstSample; s < range.endSample; ++s) {
+            Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), s);
+            Vec2f u{rng.nextFloat(), rng.nextFloat()};
+            Ray ray = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
+            samplePath(ctx_.scene, ray, rng, samplerSettings_, sink, counters);
+        }
+    }
+
+    RenderStats stats(double seconds) const {
+        RenderStats st;
+        st.values["spp"] = double(sppDone_);
+        st.values["rays"] = double(rays_.load());
+        st.values["seconds"] = seconds;
+        st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
+        st.values["path_types"] = double(film_.typeCount());
+        st.values["dropped_samples"] = double(film_.droppedSamples());
+        return st;
+    }
+
+    const RenderContext& ctx_;
+    Film film_;
+    PathSamplerSettings samplerSettings_;
+    uint64_t sppDone_ = 0;
+    std::atomic<uint64_t> rays_{0};
+};
+
+}  // namespace
+
+RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) { return PathTracerRun(ctx).run(); }
+
+void registerPathTracer() {
+    AlgorithmRegistry::instance().add({"pt",
+                                       "unidirectional path tracer with next-event estimation and MIS "
+                                       "(the reference; per-type layers)",
+                                       BudgetKind::SamplesPerPixel,
+                                       [] { return std::make_unique<PathTracerAlgorithm>(); }});
+}
+
+}  // namespace partita

@@ -1,0 +1,104 @@
+#include "light.h"
+
+#include <cmath>
+
+#include "sampling.h"
+
+namespace partita {
+
+float SpotLight::falloff(Vec3f wLight) const {
+    float c = dot(direction, wLight);
+    if (c <= cosOuter) return 0;
+    if (c >= cosInner) return 1;
+    float t = (c - cosOuter) / (cosInner - cosOuter);
+    return t * t;  // glTF's recommended smooth attenuation
+}
+
+float lightPower(const Light& light) {
+    struct Visitor {
+        float operator()(const AreaLight& l) const {
+            return luminance(l.emission) * l.area * kPi * (l.twoSided ? 2.f : 1.f);
+        }
+        float operator()(const PointLight& l) const { return 4 * kPi * luminance(l.intensity); }
+        float operator()(const SpotLight& l) const {
+            return 2 * kPi * (1 - 0.5f * (l.cosInner + l.cosOuter)) * luminance(l.intensity);
+        }
+        float operator()(const DirectionalLight& l) const {
+            return kPi * l.sceneRadius * l.sceneRadius * luminance(l.irradiance);
+        }
+    };
+    return std::visit(Visitor{}, light);
+}
+
+bool isDeltaLight(const Light& light) { return !std::holds_alternative<AreaLight>(light); }
+
+std::optional<LightSample> sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, Vec3f& bary) {
+    Vec2f b = sampleUniformTriangle(u);
+    bary = {b.x, b.y, 1 - b.x - b.y};
+    Vec3f p = l.p0 * bary.x + l.p1 * bary.y + l.p2 * bary.z;
+    Vec3f d = p - ref;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return std::nullopt;
+    float dist = std::sqrt(dist2);
+    Vec3f wi = d / dist;
+    if (!areaLightEmitsTowards(l, -wi)) return std::nullopt;
+    float cosLight = absDot(l.normal, wi);
+    if (cosLight <= 0) return std::nullopt;
+    LightSample s;
+    s.wi = wi;
+    s.point = p;
+    s.normal = l.normal;
+    s.distance = dist;
+    // Uniform area density 1/A converted to solid angle: d^2 / (|cos| A).
+    s.pdf = dist2 / (cosLight * l.area);
+    return s;
+}
+
+float areaLightPdf(const AreaLight& l, Vec3f ref, Vec3f p) {
+    Vec3f d = p - ref;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return 0;
+    float cosLight = absDot(l.normal, d) / std::sqrt(dist2);
+    if (cosLight <= 0) return 0;
+    return dist2 / (cosLight * l.area);
+}
+
+std::optional<LightSample> samplePunctualLight(const Light& light, Vec3f ref) {
+    LightSample s;
+    s.isDelta = true;
+    s.pdf = 1;
+    if (auto* pl = std::get_if<PointLight>(&light)) {
+        Vec3f d = pl->position - ref;
+        float dist2 = lengthSquared(d);
+        if (dist2 <= 0) return std::nullopt;
+        s.distance = std::sqrt(dist2);
+        s.wi = d / s.distance;
+        s.point = pl->position;
+        s.normal = -s.wi;
+        s.radiance = pl->intensity / dist2;
+        return s;
+    }
+    if (auto* sl = std::get_if<SpotLight>(&light)) {
+        Vec3f d = sl->position - ref;
+        float dist2 = lengthSquared(d);
+        if (dist2 <= 0) return std::nullopt;
+        s.distance = std::sqrt(dist2);
+        s.wi = d / s.distance;
+        s.point = sl->position;
+        s.normal = -s.wi;
+        s.radiance = sl->intensity * (sl->falloff(-s.wi) / dist2);
+        if (isBlack(s.radiance)) return std::nullopt;
+        return s;
+    }
+    if (auto* dl = std::get_if<DirectionalLight>(&light)) {
+        s.wi = -dl->direction;
+        s.distance = kInf;
+        s.point = ref + s.wi * (2 * dl->sceneRadius + length(ref - dl->sceneCenter));
+        s.normal = dl->direction;
+        s.radiance = dl->irradiance;
+        return s;
+    }
+    return std::nullopt;
+}
+
+}  // namespace partita

@@ -1,0 +1,79 @@
+// Light sources: emissive triangles (area lights, from emissive glTF materials) and
+// KHR_lights_punctual point, spot and directional lights.
+//
+// sampleLi() picks a point on the light as seen from a reference point and returns the
+// incident radiance with its density in solid angle at the reference point; for delta lights
+// (point, spot, directional) the density is 1 and `isDelta` is set, so MIS gives them full
+// weight. pdfLi() is the solid-angle density an area light would have produced for a given
+// point on it, for MIS when a BSDF-sampled ray hits it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <variant>
+
+#include "math/vec.h"
+
+namespace partita {
+
+struct LightSample {
+    Rgb radiance{0.0f};  // Li arriving at the reference point (before visibility)
+    Vec3f wi;            // unit direction from the reference point to the light
+    Vec3f point;         // point on the light (far away for directional lights)
+    Vec3f normal;        // light surface normal (area lights), -wi otherwise
+    float distance = 0;  // to `point` (kInf for directional lights)
+    float pdf = 0;       // solid angle at the reference point; 1 for delta lights
+    bool isDelta = false;
+};
+
+/// One emissive triangle. Emission is looked up through the material at the sampled point, so
+/// textured emission works; `emission` is its untextured scale used for power estimates.
+struct AreaLight {
+    Vec3f p0, p1, p2;
+    Vec3f normal;  // unit, from the winding (p1-p0) x (p2-p0)
+    float area = 0;
+    bool twoSided = false;
+    uint32_t mesh = 0, triangle = 0;
+    Rgb emission{0.0f};
+};
+
+struct PointLight {
+    Vec3f position;
+    Rgb intensity{0.0f};  // radiant intensity
+};
+
+struct SpotLight {
+    Vec3f position, direction;  // direction: where the light points, unit
+    Rgb intensity{0.0f};
+    float cosInner = 1, cosOuter = 0;
+    /// glTF's smooth falloff between the inner and outer cones.
+    float falloff(Vec3f wLight) const;
+};
+
+struct DirectionalLight {
+    Vec3f direction;       // where light travels, unit
+    Rgb irradiance{0.0f};  // on a surface facing the light
+    Vec3f sceneCenter;     // to place the virtual source outside the scene
+    float sceneRadius = 1;
+};
+
+using Light = std::variant<AreaLight, PointLight, SpotLight, DirectionalLight>;
+
+/// Power of a light (luminance-weighted), used to choose lights in proportion to their power.
+float lightPower(const Light& light);
+bool isDeltaLight(const Light& light);
+
+/// Sample a point on an area light uniformly by area; `emitted` is the radiance it sends along
+/// -wi (the caller evaluates textures), computed by RenderScene.
+std::optional<LightSample> sampleAreaLight(const AreaLight& light, Vec3f ref, Vec2f u, Vec3f& barycentric);
+/// Solid-angle density at `ref` of sampling `pointOnLight` on `light` by sampleAreaLight.
+float areaLightPdf(const AreaLight& light, Vec3f ref, Vec3f pointOnLight);
+/// Whether the area light emits along direction w leaving its surface.
+inline bool areaLightEmitsTowards(const AreaLight& light, Vec3f w) {
+    float c = dot(light.normal, w);
+    return light.twoSided ? c != 0 : c > 0;
+}
+
+std::optional<LightSample> samplePunctualLight(const Light& light, Vec3f ref);
+
+}  // namespace partita

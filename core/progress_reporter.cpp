@@ -1,0 +1,59 @@
+#include "progress_reporter.h"
+
+#include <algorithm>
+
+namespace partita {
+
+using Clock = std::chrono::steady_clock;
+
+ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, std::string unit, double total,
+                                   double timeBudgetSeconds, double minIntervalSeconds)
+    : observer_(observer),
+      phase_(std::move(phase)),
+      unit_(std::move(unit)),
+      total_(total),
+      timeBudget_(timeBudgetSeconds),
+      minInterval_(minIntervalSeconds),
+      start_(Clock::now()),
+      lastReport_(start_) {}
+
+double ProgressReporter::elapsedSeconds() const {
+    return std::chrono::duration<double>(Clock::now() - start_).count();
+}
+
+double ProgressReporter::done() const {
+    std::lock_guard lock(mutex_);
+    return done_;
+}
+
+RenderProgress ProgressReporter::snapshotLocked() const {
+    RenderProgress p;
+    p.phase = phase_;
+    p.unit = unit_;
+    p.done = done_;
+    p.total = total_;
+    p.elapsedSeconds = elapsedSeconds();
+    p.ratePerSecond = p.elapsedSeconds > 0 ? done_ / p.elapsedSeconds : 0;
+    if (total_ > 0 && p.ratePerSecond > 0)
+        p.etaSeconds = std::max(0.0, (total_ - done_) / p.ratePerSecond);
+    else if (timeBudget_ > 0)
+        p.etaSeconds = std::max(0.0, timeBudget_ - p.elapsedSeconds);
+    return p;
+}
+
+void ProgressReporter::advance(double units) {
+    std::lock_guard lock(mutex_);
+    done_ += units;
+    auto now = Clock::now();
+    if (std::chrono::duration<double>(now - lastReport_).count() < minInterval_) return;
+    lastReport_ = now;
+    observer_.onProgress(snapshotLocked());
+}
+
+void ProgressReporter::flush() {
+    std::lock_guard lock(mutex_);
+    lastReport_ = Clock::now();
+    observer_.onProgress(snapshotLocked());
+}
+
+}  // namespace partita

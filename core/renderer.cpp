@@ -1,0 +1,64 @@
+#include "renderer.h"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "camera.h"
+#include "gltf/camera_select.h"
+#include "render_scene.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+CameraDesc resolveCamera(const SceneData& scene, const std::string& name) {
+    if (scene.cameras.empty() && name.empty()) return defaultCamera(scene);
+    int index = selectCamera(scene, name);
+    if (index < 0) {
+        std::string names;
+        for (const auto& c : scene.cameras) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+        throw std::invalid_argument("no camera named '" + name + "' (the scene has: " +
+                                    (names.empty() ? std::string("none") : names) + ")");
+    }
+    return scene.cameras[size_t(index)];
+}
+
+RenderResult runRender(const RenderScene& scene, const std::string& algorithm, const RenderSettings& settings,
+                       ThreadPool& pool, const std::atomic<bool>& cancel, RenderObserver& observer) {
+    registerBuiltinAlgorithms();
+    const auto* entry = AlgorithmRegistry::instance().find(algorithm);
+    if (!entry) throw std::invalid_argument("unknown algorithm '" + algorithm + "'");
+    if (std::string err = validateSettings(settings); !err.empty()) throw std::invalid_argument(err);
+    Camera camera(resolveCamera(scene.data(), settings.cameraName), settings.width, settings.height);
+    auto instance = entry->factory();
+    RenderContext ctx{scene, camera, settings, pool, cancel, observer};
+    return instance->render(ctx);
+}
+
+std::map<std::string, std::string> describeRender(const std::string& algorithm, const RenderSettings& s,
+                                                  const RenderStats& stats) {
+    auto str = [](auto v) {
+        std::ostringstream o;
+        o << v;
+        return o.str();
+    };
+    std::map<std::string, std::string> m;
+    m["partita:algorithm"] = algorithm;
+    m["partita:width"] = str(s.width);
+    m["partita:height"] = str(s.height);
+    m["partita:camera"] = s.cameraName;
+    m["partita:budget_kind"] = s.budgetKind == BudgetKind::SamplesPerPixel     ? "spp"
+                               : s.budgetKind == BudgetKind::MutationsPerPixel ? "mpp"
+                                                                               : "seconds";
+    m["partita:budget"] = str(s.budget);
+    m["partita:seed"] = str(s.seed);
+    m["partita:max_depth"] = str(s.maxDepth);
+    m["partita:k"] = str(s.partitions);
+    m["partita:y"] = str(s.guideCandidates);
+    m["partita:radius"] = str(s.guideRadius);
+    m["partita:epsilon"] = str(s.guideEpsilon);
+    for (const auto& [k, v] : stats.values) m["partita:stat:" + k] = str(v);
+    for (const auto& [k, v] : stats.labels) m["partita:stat:" + k] = v;
+    return m;
+}
+
+}  // namespace partita

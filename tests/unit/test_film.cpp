@@ -1,0 +1,327 @@
+// Tests of the tiled, per-type film.
+//
+// Several tests compare films bytewise after adding the same samples in different orders or
+// through merge. Float addition is not associative, so that only holds when every partial sum
+// is exact: those tests use dyadic values (multiples of 1/64 below 16, with few samples per
+// pixel) whose sums fit in a float mantissa. What they check is that nothing *else* in the film
+// (tile type order, thread scheduling, the "other" summation, layer ranking) depends on order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "film.h"
+
+namespace partita {
+namespace {
+
+struct Sample {
+    int x, y;
+    PathType type;
+    Rgb value;
+};
+
+PathType typeFromString(const char* s) {
+    PathType t;
+    EXPECT_TRUE(PathType::parse(s, t)) << s;
+    return t;
+}
+
+std::vector<PathType> someTypes() {
+    std::vector<PathType> out;
+    for (const char* s : {"LE", "LDE", "LSE", "LDDE", "LSDE", "LDSE", "LSSDE", "LDSDE"})
+        out.push_back(typeFromString(s));
+    return out;
+}
+
+/// Random samples; with `dyadic` every component is k/64 for k in [1, 1024), so sums of a few
+/// of them per pixel are exact in float.
+std::vector<Sample> randomSamples(int w, int h, size_t n, uint32_t seed, bool dyadic) {
+    std::mt19937 rng(seed);
+    const auto types = someTypes();
+    std::uniform_int_distribution<int> dx(0, w - 1), dy(0, h - 1), dt(0, int(types.size()) - 1),
+        dk(1, 1023);
+    std::uniform_real_distribution<float> dv(0.0f, 3.0f);
+    std::vector<Sample> out;
+    for (size_t i = 0; i < n; ++i) {
+        Sample s{dx(rng), dy(rng), types[dt(rng)], {}};
+        if (dyadic)
+            s.value = {dk(rng) / 64.0f, dk(rng) / 64.0f, dk(rng) / 64.0f};
+        else
+            s.value = {dv(rng), dv(rng), dv(rng)};
+        out.push_back(s);
+    }
+    return out;
+}
+
+void addAll(Film& film, const std::vector<Sample>& samples) {
+    for (const auto& s : samples) film.addSample(s.x, s.y, s.type, s.value);
+}
+
+int tileOf(const Film& film, const Sample& s) {
+    return (s.y / Film::kTileSize) * film.tilesX() + s.x / Film::kTileSize;
+}
+
+/// Add samples from `threads` threads, thread t taking the tiles with index % threads == t (so
+/// no two threads touch the same tile), each in the order of `samples`.
+void addConcurrently(Film& film, const std::vector<Sample>& samples, int threads, int rotate = 0) {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) {
+        pool.emplace_back([&, t] {
+            for (const auto& s : samples)
+                if ((tileOf(film, s) + rotate) % threads == t)
+                    film.addSample(s.x, s.y, s.type, s.value);
+        });
+    }
+    for (auto& th : pool) th.join();
+}
+
+bool bytewiseEqual(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+void expectBytewiseEqual(const LayeredImage& a, const LayeredImage& b) {
+    EXPECT_TRUE(bytewiseEqual(a.combined, b.combined));
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (size_t i = 0; i < a.layers.size(); ++i) {
+        EXPECT_EQ(a.layers[i].name, b.layers[i].name);
+        EXPECT_TRUE(bytewiseEqual(a.layers[i].image, b.layers[i].image)) << a.layers[i].name;
+    }
+}
+
+double totalLuminance(const Image& img) {
+    double s = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) s += luminance(img.at(x, y));
+    return s;
+}
+
+TEST(Film, LayersSumToCombined) {
+    // 37x23: edge tiles are partial in both directions.
+    const int w = 37, h = 23;
+    Film film(w, h);
+    const auto samples = randomSamples(w, h, 20000, 1, /*dyadic=*/false);
+    addAll(film, samples);
+    const float scale = 1.0f / 7.0f;
+    const LayeredImage img = film.resolve(scale, 100);
+    ASSERT_EQ(img.layers.size(), someTypes().size());
+    ASSERT_EQ(img.layer(Film::kOtherLayer), nullptr);
+
+    // Tolerance. The combined buffer sums a pixel's n samples in arrival order; each layer sums
+    // its own subset; resolve scales both; the check adds up the L layers. Every float add or
+    // multiply rounds with relative error <= u = 2^-24 of its result, and all partial sums are
+    // bounded by M = the sum of |value| over the pixel's samples, so both sides are within
+    // about (n + L + 2) u M of the exact sum. Here n is about 20000 / (37 * 23) ~ 24 samples
+    // per pixel (a Poisson tail up to ~50) and L = 8, so the error is below ~60 u M ~ 4e-6 M:
+    // a relative 1e-5 of the combined value holds with margin because the values here are
+    // non-negative (|combined| == M). The absolute term, a few ulps of M, covers the general
+    // case where positive and negative contributions cancel and |combined| << M.
+    double worst = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const Rgb c = img.combined.at(x, y);
+            for (int k = 0; k < 3; ++k) {
+                double sum = 0, magnitude = 0;
+                for (const auto& l : img.layers) {
+                    sum += l.image.at(x, y)[k];
+                    magnitude += std::abs(l.image.at(x, y)[k]);
+                }
+                const double tol = 1e-5 * std::abs(c[k]) + 8 * FLT_EPSILON * magnitude;
+                EXPECT_NEAR(sum, c[k], tol) << "pixel " << x << "," << y << " channel " << k;
+                worst = std::max(worst, std::abs(sum - c[k]) / std::max(1e-30, magnitude));
+            }
+        }
+    }
+    EXPECT_LT(worst, 1e-5);
+
+    // resolveCombined is the same image as resolve's combined.
+    EXPECT_TRUE(bytewiseEqual(film.resolveCombined(scale), img.combined));
+}
+
+TEST(Film, LayersAreSortedByTotalAndNamedByType) {
+    Film film(20, 20);
+    const auto types = someTypes();
+    // Type i gets total luminance proportional to (i + 1): the last type is the brightest.
+    for (size_t i = 0; i < types.size(); ++i)
+        for (int p = 0; p < 10; ++p)
+            film.addSample(int(p * 2), int(i * 2), types[i], Rgb(float(i + 1)));
+    const LayeredImage img = film.resolve(1.0f, 100);
+    ASSERT_EQ(img.layers.size(), types.size());
+    for (size_t i = 0; i < types.size(); ++i)
+        EXPECT_EQ(img.layers[i].name, types[types.size() - 1 - i].toString());
+    for (size_t i = 1; i < img.layers.size(); ++i)
+        EXPECT_GE(totalLuminance(img.layers[i - 1].image), totalLuminance(img.layers[i].image));
+}
+
+TEST(Film, TiesAreBrokenByPathTypeOrder) {
+    const auto types = someTypes();
+    auto resolveWithOrder = [&](bool reversed) {
+        Film film(8, 8);
+        std::vector<PathType> order = types;
+        if (reversed) std::reverse(order.begin(), order.end());
+        // Every type gets the same total, each in its own pixel, added in `order`.
+        for (PathType t : order) {
+            const int x = int(std::find(types.begin(), types.end(), t) - types.begin());
+            film.addSample(x, 0, t, Rgb(0.5f));
+        }
+        return film.resolve(1.0f, 3);
+    };
+    const LayeredImage a = resolveWithOrder(false), b = resolveWithOrder(true);
+    std::vector<PathType> sorted = types;
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(a.layers.size(), 4u);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(a.layers[i].name, sorted[i].toString());
+    EXPECT_EQ(a.layers[3].name, Film::kOtherLayer);
+    expectBytewiseEqual(a, b);
+}
+
+TEST(Film, OtherHoldsExactlyTheRest) {
+    const int w = 40, h = 30;
+    const auto samples = randomSamples(w, h, 3000, 2, /*dyadic=*/true);
+    Film film(w, h);
+    addAll(film, samples);
+    const int keep = 3;
+    const LayeredImage img = film.resolve(1.0f, keep);
+    ASSERT_EQ(img.layers.size(), size_t(keep) + 1);
+    EXPECT_EQ(img.layers.back().name, Film::kOtherLayer);
+
+    // Per-type reference sums (exact: dyadic values) and totals.
+    std::map<std::string, Image> perType;
+    for (const auto& s : samples) {
+        auto it = perType.try_emplace(s.type.toString(), w, h).first;
+        it->second.add(s.x, s.y, s.value);
+    }
+    ASSERT_EQ(perType.size(), film.typeCount());
+    std::vector<std::pair<double, std::string>> totals;
+    for (const auto& [name, image] : perType) totals.push_back({totalLuminance(image), name});
+    std::sort(totals.begin(), totals.end(),
+              [](const auto& a, const auto& b) { return a.first > b.first; });
+
+    Image rest(w, h);
+    for (size_t i = 0; i < totals.size(); ++i) {
+        const Image& ref = perType.at(totals[i].second);
+        if (i < size_t(keep)) {
+            EXPECT_EQ(img.layers[i].name, totals[i].second);
+            EXPECT_TRUE(bytewiseEqual(img.layers[i].image, ref)) << totals[i].second;
+        } else {
+            for (size_t k = 0; k < rest.rgb.size(); ++k) rest.rgb[k] += ref.rgb[k];
+        }
+    }
+    EXPECT_TRUE(bytewiseEqual(img.layers.back().image, rest));
+
+    // maxTypeLayers 0: everything is "other", equal to the combined image.
+    const LayeredImage none = film.resolve(1.0f, 0);
+    ASSERT_EQ(none.layers.size(), 1u);
+    EXPECT_EQ(none.layers[0].name, Film::kOtherLayer);
+    EXPECT_TRUE(bytewiseEqual(none.layers[0].image, none.combined));
+
+    // Exactly as many types as layers: no "other".
+    const LayeredImage all = film.resolve(1.0f, int(film.typeCount()));
+    EXPECT_EQ(all.layer(Film::kOtherLayer), nullptr);
+    EXPECT_EQ(all.layers.size(), film.typeCount());
+}
+
+TEST(Film, ResolveIsIndependentOfSampleOrder) {
+    const int w = 50, h = 35;
+    const auto samples = randomSamples(w, h, 6000, 3, /*dyadic=*/true);
+    std::vector<Sample> shuffled = samples;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(99));
+
+    Film a(w, h), b(w, h);
+    addConcurrently(a, samples, 2, 0);
+    addConcurrently(b, shuffled, 2, 1);  // the other thread takes each tile, other order
+    EXPECT_EQ(a.typeCount(), b.typeCount());
+    for (int keep : {0, 2, 5, 100})
+        expectBytewiseEqual(a.resolve(0.25f, keep), b.resolve(0.25f, keep));
+}
+
+TEST(Film, MergeEqualsAddingEverythingIntoOneFilm) {
+    const int w = 33, h = 17;
+    const auto samples = randomSamples(w, h, 4000, 4, /*dyadic=*/true);
+    Film all(w, h), first(w, h), second(w, h);
+    addAll(all, samples);
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const auto& s = samples[i];
+        (i % 3 == 0 ? first : second).addSample(s.x, s.y, s.type, s.value);
+    }
+    first.addSample(0, 0, PathType(), Rgb(NAN));
+    second.addSample(1, 1, PathType(), Rgb(INFINITY));
+    first.merge(second);
+    EXPECT_EQ(first.typeCount(), all.typeCount());
+    EXPECT_EQ(first.droppedSamples(), 2u);
+    for (int keep : {0, 3, 100})
+        expectBytewiseEqual(first.resolve(1.0f, keep), all.resolve(1.0f, keep));
+
+    Film wrongSize(w + 1, h);
+    EXPECT_THROW(first.merge(wrongSize), std::invalid_argument);
+}
+
+TEST(Film, NonFiniteSamplesAreDroppedAndCounted) {
+    Film film(16, 16);
+    const PathType lde = typeFromString("LDE"), lse = typeFromString("LSE");
+    film.addSample(3, 4, lde, {1.0f, 2.0f, 3.0f});
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
+    film.addSample(3, 4, lde, {nan, 0, 0});
+    film.addSample(3, 4, lse, {0, inf, 0});
+    film.addSample(5, 5, lse, {0, 0, -inf});
+    film.addSample(5, 5, lse, {-inf, -inf, -inf});
+    EXPECT_EQ(film.droppedSamples(), 4u);
+    EXPECT_EQ(film.typeCount(), 1u);  // LSE only ever came with non-finite values
+
+    const LayeredImage img = film.resolve(1.0f, 10);
+    EXPECT_EQ(img.combined.at(3, 4), Rgb(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(img.combined.at(5, 5), Rgb(0.0f));
+    ASSERT_EQ(img.layers.size(), 1u);
+    EXPECT_EQ(img.layers[0].name, "LDE");
+    for (float v : img.combined.rgb) EXPECT_TRUE(std::isfinite(v));
+
+    film.clear();
+    EXPECT_EQ(film.droppedSamples(), 0u);
+    EXPECT_EQ(film.typeCount(), 0u);
+    EXPECT_EQ(film.resolve(1.0f, 10).layers.size(), 0u);
+    EXPECT_EQ(film.resolveCombined(1.0f).at(3, 4), Rgb(0.0f));
+}
+
+TEST(Film, ConcurrentAddOnDistinctTilesMatchesSerial) {
+    // Non-dyadic values: each tile is filled by one thread in the serial order, so every pixel
+    // sees the same sequence of adds and the results must be identical bit for bit.
+    const int w = 100, h = 70;
+    const auto samples = randomSamples(w, h, 100000, 5, /*dyadic=*/false);
+    Film serial(w, h), parallel(w, h);
+    addAll(serial, samples);
+    addConcurrently(parallel, samples, 4);
+    EXPECT_EQ(serial.typeCount(), parallel.typeCount());
+    expectBytewiseEqual(serial.resolve(0.5f, 3), parallel.resolve(0.5f, 3));
+}
+
+TEST(Film, MoveAndTypeCount) {
+    Film film(20, 20);
+    EXPECT_EQ(film.tilesX(), 2);
+    EXPECT_EQ(film.tilesY(), 2);
+    film.addSample(0, 0, typeFromString("LDE"), Rgb(1.0f));
+    film.addSample(19, 19, typeFromString("LDE"), Rgb(1.0f));
+    film.addSample(19, 0, typeFromString("LSDE"), Rgb(1.0f));
+    film.addSample(2, 2, typeFromString("LSDE"), Rgb(0.0f));  // black: no effect
+    film.addSample(-1, 0, typeFromString("LE"), Rgb(1.0f));   // outside: ignored
+    film.addSample(0, 20, typeFromString("LE"), Rgb(1.0f));
+    EXPECT_EQ(film.typeCount(), 2u);
+
+    Film moved(std::move(film));
+    EXPECT_EQ(moved.width(), 20);
+    EXPECT_EQ(moved.typeCount(), 2u);
+    Film assigned(1, 1);
+    assigned = std::move(moved);
+    EXPECT_EQ(assigned.resolveCombined(1.0f).at(19, 19), Rgb(1.0f));
+}
+
+}  // namespace
+}  // namespace partita

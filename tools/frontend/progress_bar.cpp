@@ -1,0 +1,72 @@
+#include "frontend/progress_bar.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "algorithm.h"
+
+namespace partita {
+
+ProgressBar::ProgressBar(bool interactive) : interactive_(interactive) {}
+
+bool ProgressBar::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
+
+std::string humanCount(double v) {
+    char buf[32];
+    if (v >= 1e9)
+        std::snprintf(buf, sizeof buf, "%.2f G", v / 1e9);
+    else if (v >= 1e6)
+        std::snprintf(buf, sizeof buf, "%.2f M", v / 1e6);
+    else if (v >= 1e3)
+        std::snprintf(buf, sizeof buf, "%.1f k", v / 1e3);
+    else
+        std::snprintf(buf, sizeof buf, "%.0f ", v);
+    return buf;
+}
+
+std::string humanDuration(double s) {
+    char buf[32];
+    if (!(s >= 0) || !std::isfinite(s)) return "?";
+    if (s >= 3600)
+        std::snprintf(buf, sizeof buf, "%dh%02dm", int(s / 3600), int(std::fmod(s, 3600) / 60));
+    else if (s >= 60)
+        std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(std::fmod(s, 60)));
+    else
+        std::snprintf(buf, sizeof buf, "%.1fs", s);
+    return buf;
+}
+
+void ProgressBar::update(const RenderProgress& p) {
+    std::lock_guard lock(mutex_);
+    double fraction = p.total > 0 ? std::clamp(p.done / p.total, 0.0, 1.0) : -1;
+    if (fraction < 0 && p.etaSeconds >= 0 && p.elapsedSeconds + p.etaSeconds > 0)
+        fraction = p.elapsedSeconds / (p.elapsedSeconds + p.etaSeconds);
+    std::string rate = humanCount(p.ratePerSecond) + p.unit + "/s";
+    std::string eta = p.etaSeconds >= 0 ? humanDuration(p.etaSeconds) : "?";
+    if (interactive_) {
+        constexpr int kWidth = 30;
+        int filled = fraction >= 0 ? int(fraction * kWidth + 0.5) : 0;
+        std::string bar(size_t(filled), '#');
+        bar.resize(kWidth, '.');
+        std::fprintf(stderr, "\r%-8s [%s] %5.1f%%  %s  ETA %s   ", p.phase.c_str(), bar.c_str(),
+                     fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+        std::fflush(stderr);
+        drawn_ = true;
+        return;
+    }
+    auto now = std::chrono::steady_clock::now();
+    if (now - lastPlain_ < std::chrono::seconds(5)) return;
+    lastPlain_ = now;
+    std::fprintf(stderr, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(), fraction >= 0 ? 100 * fraction : 0.0,
+                 rate.c_str(), eta.c_str());
+}
+
+void ProgressBar::finish() {
+    std::lock_guard lock(mutex_);
+    if (interactive_ && drawn_) std::fprintf(stderr, "\n");
+    drawn_ = false;
+}
+
+}  // namespace partita

@@ -1,0 +1,35 @@
+// A terminal progress bar with rate and ETA for the command-line front ends. On a terminal it
+// redraws one line on stderr; otherwise it prints a plain line at most every few seconds, so
+// logs stay readable.
+#pragma once
+
+#include <chrono>
+#include <mutex>
+#include <string>
+
+namespace partita {
+
+struct RenderProgress;
+
+class ProgressBar {
+public:
+    explicit ProgressBar(bool interactive);
+    static bool stderrIsTerminal();
+
+    void update(const RenderProgress& p);
+    /// Ends the bar's line (call once when the work is over).
+    void finish();
+
+private:
+    bool interactive_;
+    bool drawn_ = false;
+    std::mutex mutex_;
+    std::chrono::steady_clock::time_point lastPlain_{};
+};
+
+/// "1.23 M", "456 k" ... for rates and counts.
+std::string humanCount(double value);
+/// "1h02m", "3m05s", "12.3s".
+std::string humanDuration(double seconds);
+
+}  // namespace partita

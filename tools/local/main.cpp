@@ -1,0 +1,113 @@
+// partita-local: the core without the service. Renders a glTF scene in-process:
+//   partita-local render SCENE --spp N --out x.exr [--png x.png] [render options]
+//   partita-local info SCENE
+// Bad input prints one line on stderr and exits non-zero.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "frontend/progress_bar.h"
+#include "frontend/render_options.h"
+#include "gltf/gltf_loader.h"
+#include "image_io.h"
+#include "render_scene.h"
+#include "renderer.h"
+#include "thread_pool.h"
+
+namespace fs = std::filesystem;
+using namespace partita;
+
+namespace {
+
+std::atomic<bool> gCancel{false};
+void onSignal(int) { gCancel.store(true); }
+
+class BarObserver : public RenderObserver {
+public:
+    explicit BarObserver(ProgressBar& bar) : bar_(bar) {}
+    void onProgress(const RenderProgress& p) override { bar_.update(p); }
+
+private:
+    ProgressBar& bar_;
+};
+
+int renderCommand(const std::string& scenePath, RenderOptions& options, const std::string& outPath,
+                  std::string pngPath, bool quiet) {
+    if (std::string err = finalizeRenderOptions(options); !err.empty()) throw std::invalid_argument(err);
+    if (pngPath.empty()) pngPath = fs::path(outPath).replace_extension(".png").string();
+    SceneData data = loadGltfFile(scenePath);
+    for (const auto& w : data.warnings) spdlog::warn("{}", w);
+    RenderScene scene(std::move(data));
+    ThreadPool pool(options.threads);
+    ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
+    BarObserver observer(bar);
+    std::signal(SIGINT, onSignal);
+    RenderResult result;
+    try {
+        result = runRender(scene, options.algorithm, options.settings, pool, gCancel, observer);
+    } catch (const RenderCancelled&) {
+        bar.finish();
+        throw std::runtime_error("interrupted; nothing written");
+    }
+    bar.finish();
+    writeExr(outPath, result.image, describeRender(options.algorithm, options.settings, result.stats));
+    writePng(pngPath, result.image.combined, autoExposure(result.image.combined));
+    if (!quiet) {
+        std::fprintf(stderr, "wrote %s (%zu type layers) and %s in %s, %s rays/s\n", outPath.c_str(),
+                     result.image.layers.size(), pngPath.c_str(),
+                     humanDuration(result.stats.values["seconds"]).c_str(),
+                     humanCount(result.stats.values["rays_per_second"]).c_str());
+    }
+    return 0;
+}
+
+int infoCommand(const std::string& scenePath) {
+    SceneData data = loadGltfFile(scenePath);
+    size_t triangles = 0;
+    for (const auto& m : data.meshes) triangles += m.triangleCount();
+    std::printf("meshes %zu, triangles %zu, materials %zu, textures %zu, punctual lights %zu\n", data.meshes.size(),
+                triangles, data.materials.size(), data.textures.size(), data.lights.size());
+    for (const auto& c : data.cameras)
+        std::printf("camera '%s' (%s)\n", c.name.c_str(),
+                    c.type == CameraDesc::Type::Perspective ? "perspective" : "orthographic");
+    for (const auto& w : data.warnings) std::printf("warning: %s\n", w.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"partita-local: render glTF scenes in-process with the Partita core"};
+    app.require_subcommand(1);
+    std::string scenePath, outPath = "out.exr", pngPath;
+    bool quiet = false;
+    RenderOptions options;
+    auto* render = app.add_subcommand("render", "render a scene to a multi-layer EXR and a PNG preview");
+    render->add_option("scene", scenePath, "a .gltf or .glb file")->required();
+    render->add_option("--out", outPath, "output EXR (combined + one layer per path type)")->capture_default_str();
+    render->add_option("--png", pngPath, "PNG preview (default: the EXR name with .png)");
+    render->add_flag("--quiet", quiet, "no progress bar");
+    addRenderOptions(*render, options);
+    auto* info = app.add_subcommand("info", "print what a scene contains");
+    info->add_option("scene", scenePath, "a .gltf or .glb file")->required();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "partita-local: %s (see --help)\n", e.what());
+        return 2;
+    }
+    spdlog::set_level(quiet ? spdlog::level::warn : spdlog::level::info);
+    try {
+        if (*render) return renderCommand(scenePath, options, outPath, pngPath, quiet);
+        return infoCommand(scenePath);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "partita-local: error: %s\n", e.what());
+        return 1;
+    }
+}
