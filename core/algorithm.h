@@ -23,6 +23,13 @@ class ThreadPool;
 /// Thrown out of Algorithm::render when the cancel flag is raised.
 struct RenderCancelled {};
 
+/// Per-partition statistics of the MCMC algorithms (paper Sec. 4): type string, acceptance
+/// rate, normalising constant b_i and selection probability P(i).
+struct PartitionProgress {
+    std::string type;
+    double acceptance = 0, b = 0, p = 0;
+};
+
 /// One progress report. `done`/`total` are in `unit` (e.g. "samples", "mutations").
 struct RenderProgress {
     std::string phase;  // "prepass", "render", ...
@@ -31,6 +38,7 @@ struct RenderProgress {
     double ratePerSecond = 0;
     double etaSeconds = -1;  // < 0: unknown
     double elapsedSeconds = 0;
+    std::vector<PartitionProgress> partitions;  // empty for algorithms without partitions
 };
 
 /// Named scalar statistics an algorithm reports (acceptance, b_i, ...), and named strings.

@@ -3,7 +3,7 @@
 // The sphere of directions is cut into a (theta, phi) grid, theta in [0, pi] from +z, phi in
 // [0, 2 pi). A sampler is run N times and the directions binned; the expected count of a bin is
 // N times the integral of the claimed solid-angle pdf over the bin, computed with a composite
-// Simpson rule in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return nullopt,
+// Gauss-Legendre rule in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return nullopt,
 // e.g. a GGX reflection below the horizon); failures form one more cell whose expected count is
 // N (1 - integral of the pdf), so a pdf that claims too much or too little mass is caught too.
 //
@@ -93,7 +93,7 @@ struct Chi2Options {
     int thetaBins = 16;
     int phiBins = 32;
     int sampleCount = 200000;
-    int simpsonSteps = 12;  // Simpson sub-intervals per bin and axis (even)
+    int quadratureSubdivisions = 4;  // 4-point Gauss-Legendre rules per bin and axis
     double minExpected = 5;
 };
 
@@ -125,7 +125,7 @@ inline Vec3f sphericalDirection(double theta, double phi) {
 /// Run the test: draw opts.sampleCount directions with `sample`, compare against `pdf`.
 inline Chi2Result chi2Test(const DirectionSampler& sample, const DirectionPdf& pdf, Rng& rng,
                            const Chi2Options& opts = {}) {
-    const int nt = opts.thetaBins, np = opts.phiBins, steps = opts.simpsonSteps;
+    const int nt = opts.thetaBins, np = opts.phiBins;
     const double dTheta = kPi / nt, dPhi = 2 * kPi / np;
     Chi2Result result;
 
@@ -146,29 +146,41 @@ inline Chi2Result chi2Test(const DirectionSampler& sample, const DirectionPdf& p
         observed[size_t(ti * np + pi)] += 1;
     }
 
-    // Expected counts: the pdf on a fine grid shared by neighbouring bins, then Simpson's rule.
-    const int gt = nt * steps + 1, gp = np * steps + 1;
-    const double ht = dTheta / steps, hp = dPhi / steps;
-    std::vector<double> grid(size_t(gt * gp));
-    for (int i = 0; i < gt; ++i) {
-        double theta = i * ht;
-        double jac = std::sin(theta);
-        for (int j = 0; j < gp; ++j)
-            grid[size_t(i * gp + j)] = jac == 0 ? 0.0 : pdf(sphericalDirection(theta, j * hp)) * jac;
-    }
-    auto simpsonWeight = [&](int k) { return (k == 0 || k == steps) ? 1.0 : (k % 2 ? 4.0 : 2.0); };
+    // Expected counts: composite Gauss-Legendre quadrature in (theta, phi) inside each bin. Its
+    // nodes are interior, so a pdf that jumps at a bin edge (the horizon, where reflection meets
+    // transmission) is integrated from the bin's own side only.
+    const int q = opts.quadratureSubdivisions;
+    // 4-point Gauss-Legendre nodes and weights on [-1, 1].
+    const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                          0.8611363115940526};
+    const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                          0.3478548451374538};
+    auto nodes = [&](int bins, double width, std::vector<double>& x, std::vector<double>& w) {
+        double sub = width / q;
+        for (int i = 0; i < bins; ++i)
+            for (int k = 0; k < q; ++k)
+                for (int g = 0; g < 4; ++g) {
+                    x.push_back(i * width + (k + 0.5) * sub + 0.5 * sub * gx[g]);
+                    w.push_back(0.5 * sub * gw[g]);
+                }
+    };
+    std::vector<double> thetaX, thetaW, phiX, phiW;
+    nodes(nt, dTheta, thetaX, thetaW);
+    nodes(np, dPhi, phiX, phiW);
+    const size_t perBinTheta = size_t(q * 4), perBinPhi = size_t(q * 4);
     std::vector<double> expected(size_t(nt * np), 0.0);
-    for (int ti = 0; ti < nt; ++ti)
-        for (int pi = 0; pi < np; ++pi) {
-            double sum = 0;
-            for (int a = 0; a <= steps; ++a)
-                for (int b = 0; b <= steps; ++b)
-                    sum += simpsonWeight(a) * simpsonWeight(b) *
-                           grid[size_t((ti * steps + a) * gp + pi * steps + b)];
-            double integral = sum * (ht / 3) * (hp / 3);
-            result.pdfIntegral += integral;
-            expected[size_t(ti * np + pi)] = integral * opts.sampleCount;
+    for (size_t i = 0; i < thetaX.size(); ++i) {
+        double jac = std::sin(thetaX[i]) * thetaW[i];
+        size_t ti = i / perBinTheta;
+        for (size_t j = 0; j < phiX.size(); ++j) {
+            double v = pdf(sphericalDirection(thetaX[i], phiX[j])) * jac * phiW[j];
+            expected[ti * size_t(np) + j / perBinPhi] += v;
         }
+    }
+    for (double& e : expected) {
+        result.pdfIntegral += e;
+        e *= opts.sampleCount;
+    }
     observed.push_back(double(result.failures));
     expected.push_back(std::max(0.0, 1 - result.pdfIntegral) * opts.sampleCount);
 

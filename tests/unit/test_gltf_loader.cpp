@@ -184,7 +184,7 @@ TEST(GltfNodes, NormalsUseTheInverseTranspose) {
 }
 
 TEST(GltfNodes, NegativeDeterminantFlipsWinding) {
-    SceneData plain = loadQuadWithNode({});
+    SceneData plain = loadQuadWithNode(json::object());
     SceneData mirrored = loadQuadWithNode({{"scale", {1, 1, -1}}});
     // The mirror turns the file normal (0,0,1) into (0,0,-1); the flipped winding keeps the
     // geometric normal on the same side as the shading normal.
@@ -229,7 +229,7 @@ TEST(GltfTopology, TriangleStrip) {
 
 TEST(GltfTopology, TriangleFanAndAssemblyOrder) {
     EXPECT_EQ(gltf::assembleTriangles(6, {0, 1, 2, 3}), (std::vector<uint32_t>{1, 2, 0, 2, 3, 0}));
-    EXPECT_EQ(gltf::assembleTriangles(5, {0, 1, 2, 3}), (std::vector<uint32_t>{0, 1, 2, 2, 1, 3}));
+    EXPECT_EQ(gltf::assembleTriangles(5, {0, 1, 2, 3}), (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
     // A repeated index (strip restart) makes a degenerate triangle, which is dropped.
     EXPECT_EQ(gltf::assembleTriangles(5, {0, 1, 1, 2}), (std::vector<uint32_t>{}));
     SceneData s = loadPrimitive([](GltfBuilder& b) {
@@ -298,7 +298,7 @@ TEST(GltfAccessors, NormalizedTexcoordTypes) {
         SceneData s = loadPrimitive([ct](GltfBuilder& b) {
             std::vector<uint8_t> raw;
             if (ct == kUByte)
-                raw = {0, 255, 255, 0, 51, 102, 0, 0};  // 4 bytes per element (padded)
+                raw = {0, 255, 0, 0, 255, 0, 0, 0, 51, 102, 0, 0};  // stride 4 (padded)
             else
                 raw = bytesOf(std::vector<uint16_t>{0, 65535, 65535, 0, 13107, 26214});
             int view = b.view(raw, ct == kUByte ? 4 : 0);
