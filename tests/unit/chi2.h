@@ -2,8 +2,8 @@
 //
 // The sphere of directions is cut into a (theta, phi) grid, theta in [0, pi] from +z, phi in
 // [0, 2 pi). A sampler is run N times and the directions binned; the expected count of a bin is
-// N times the integral of the claimed solid-angle pdf over the bin, computed with a composite
-// Gauss-Legendre rule in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return nullopt,
+// N times the integral of the claimed solid-angle pdf over the bin, computed by adaptive
+// Gauss-Legendre cubature in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return nullopt,
 // e.g. a GGX reflection below the horizon); failures form one more cell whose expected count is
 // N (1 - integral of the pdf), so a pdf that claims too much or too little mass is caught too.
 //
@@ -93,7 +93,8 @@ struct Chi2Options {
     int thetaBins = 16;
     int phiBins = 32;
     int sampleCount = 200000;
-    int quadratureSubdivisions = 4;  // 4-point Gauss-Legendre rules per bin and axis
+    double integrationTolerance = 0.05;  // quadrature error per bin, in Poisson sigmas
+    int maxIntegrationDepth = 7;
     double minExpected = 5;
 };
 
@@ -122,6 +123,46 @@ inline Vec3f sphericalDirection(double theta, double phi) {
     return Vec3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(std::cos(theta)));
 }
 
+/// 4x4-point Gauss-Legendre cubature of pdf(theta, phi) sin(theta) over a (theta, phi) cell.
+inline double gaussCell(const DirectionPdf& pdf, double t0, double t1, double p0, double p1) {
+    static const double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                0.8611363115940526};
+    static const double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                0.3478548451374538};
+    double tc = 0.5 * (t0 + t1), th = 0.5 * (t1 - t0), pc = 0.5 * (p0 + p1), ph = 0.5 * (p1 - p0);
+    double sum = 0;
+    for (int i = 0; i < 4; ++i) {
+        double theta = tc + th * x[i];
+        double s = std::sin(theta);
+        for (int j = 0; j < 4; ++j) sum += w[i] * w[j] * s * pdf(sphericalDirection(theta, pc + ph * x[j]));
+    }
+    return sum * th * ph;
+}
+
+/// Adaptive cubature: compare the cell's Gauss estimate with the sum over its four quarters and
+/// recurse where they disagree by more than the cell's share of the tolerance. The tolerance is
+/// statistical: a bin with expected count E must be integrated to well within its Poisson
+/// error sqrt(E), here to integrationTolerance * sqrt(E) counts, so that quadrature error never
+/// looks like a sampling mismatch. BSDF pdfs have peaks (low roughness) and jumps inside bins
+/// (a microfacet normal reaching the horizon cuts a transmission lobe off); a fixed rule
+/// misjudges both.
+inline double integrateCell(const DirectionPdf& pdf, double t0, double t1, double p0, double p1,
+                            const Chi2Options& opts, int depth, double whole = -1,
+                            double share = 1) {
+    if (whole < 0) whole = gaussCell(pdf, t0, t1, p0, p1);
+    double tm = 0.5 * (t0 + t1), pm = 0.5 * (p0 + p1);
+    double q[4] = {gaussCell(pdf, t0, tm, p0, pm), gaussCell(pdf, tm, t1, p0, pm),
+                   gaussCell(pdf, t0, tm, pm, p1), gaussCell(pdf, tm, t1, pm, p1)};
+    double refined = q[0] + q[1] + q[2] + q[3];
+    double n = opts.sampleCount;
+    double tolerance = opts.integrationTolerance * std::sqrt(std::max(1.0, refined * n)) * share / n;
+    if (std::abs(refined - whole) <= tolerance || depth >= opts.maxIntegrationDepth) return refined;
+    return integrateCell(pdf, t0, tm, p0, pm, opts, depth + 1, q[0], share / 2) +
+           integrateCell(pdf, tm, t1, p0, pm, opts, depth + 1, q[1], share / 2) +
+           integrateCell(pdf, t0, tm, pm, p1, opts, depth + 1, q[2], share / 2) +
+           integrateCell(pdf, tm, t1, pm, p1, opts, depth + 1, q[3], share / 2);
+}
+
 /// Run the test: draw opts.sampleCount directions with `sample`, compare against `pdf`.
 inline Chi2Result chi2Test(const DirectionSampler& sample, const DirectionPdf& pdf, Rng& rng,
                            const Chi2Options& opts = {}) {
@@ -146,41 +187,17 @@ inline Chi2Result chi2Test(const DirectionSampler& sample, const DirectionPdf& p
         observed[size_t(ti * np + pi)] += 1;
     }
 
-    // Expected counts: composite Gauss-Legendre quadrature in (theta, phi) inside each bin. Its
-    // nodes are interior, so a pdf that jumps at a bin edge (the horizon, where reflection meets
-    // transmission) is integrated from the bin's own side only.
-    const int q = opts.quadratureSubdivisions;
-    // 4-point Gauss-Legendre nodes and weights on [-1, 1].
-    const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
-                          0.8611363115940526};
-    const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
-                          0.3478548451374538};
-    auto nodes = [&](int bins, double width, std::vector<double>& x, std::vector<double>& w) {
-        double sub = width / q;
-        for (int i = 0; i < bins; ++i)
-            for (int k = 0; k < q; ++k)
-                for (int g = 0; g < 4; ++g) {
-                    x.push_back(i * width + (k + 0.5) * sub + 0.5 * sub * gx[g]);
-                    w.push_back(0.5 * sub * gw[g]);
-                }
-    };
-    std::vector<double> thetaX, thetaW, phiX, phiW;
-    nodes(nt, dTheta, thetaX, thetaW);
-    nodes(np, dPhi, phiX, phiW);
-    const size_t perBinTheta = size_t(q * 4), perBinPhi = size_t(q * 4);
+    // Expected counts: adaptive cubature of pdf(theta, phi) sin(theta) over each bin (see
+    // integrateCell). Only interior nodes are used, so a pdf that jumps at a bin edge (the
+    // horizon, where reflection meets transmission) is integrated from the bin's own side.
     std::vector<double> expected(size_t(nt * np), 0.0);
-    for (size_t i = 0; i < thetaX.size(); ++i) {
-        double jac = std::sin(thetaX[i]) * thetaW[i];
-        size_t ti = i / perBinTheta;
-        for (size_t j = 0; j < phiX.size(); ++j) {
-            double v = pdf(sphericalDirection(thetaX[i], phiX[j])) * jac * phiW[j];
-            expected[ti * size_t(np) + j / perBinPhi] += v;
+    for (int ti = 0; ti < nt; ++ti)
+        for (int pi = 0; pi < np; ++pi) {
+            double integral = integrateCell(pdf, ti * dTheta, (ti + 1) * dTheta, pi * dPhi,
+                                            (pi + 1) * dPhi, opts, 0);
+            result.pdfIntegral += integral;
+            expected[size_t(ti * np + pi)] = integral * opts.sampleCount;
         }
-    }
-    for (double& e : expected) {
-        result.pdfIntegral += e;
-        e *= opts.sampleCount;
-    }
     observed.push_back(double(result.failures));
     expected.push_back(std::max(0.0, 1 - result.pdfIntegral) * opts.sampleCount);
 

@@ -136,7 +136,7 @@ void runChi2(const BsdfLobe& lobe, Vec3f wo, uint64_t stream, const Chi2Options&
     double level = partita::test::sidakLevel(kFamilyAlpha, chi2FamilySize());
     EXPECT_GE(result.pValue, level) << describe(lobe, wo) << ": " << result.describe();
     // The pdf may lose mass to failed samples but can never integrate to more than one (the
-    // Simpson error at these resolutions is far below the 1e-2 allowed here).
+    // quadrature error is far below the 1e-2 allowed here).
     EXPECT_LE(result.pdfIntegral, 1.01) << describe(lobe, wo);
 }
 
@@ -311,7 +311,6 @@ TEST(BsdfChi2, SmallRoughnessOnFineGrid) {
     Chi2Options fine;
     fine.thetaBins = 64;
     fine.phiBins = 128;
-    fine.simpsonSteps = 6;
     fine.sampleCount = 400000;
     runChi2(ConductorLobe{Rgb(0.9f), 0.0225f}, direction(50, 1.0f), 1000, fine);
     runChi2(DielectricLobe{1.5f, 0.0225f, Rgb(1.0f)}, below(direction(30, 1.0f)), 1001, fine);
