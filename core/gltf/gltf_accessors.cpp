@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 
 #include "gltf/gltf_common.h"
 
@@ -75,8 +76,18 @@ double decodeComponent(const uint8_t* p, const ElementFormat& f) {
     }
 }
 
-void decodeElement(const uint8_t* p, const ElementFormat& f, double* out) {
-    for (int c = 0; c < f.components; ++c) out[c] = decodeComponent(p + c * f.componentBytes, f);
+template <typename T>
+T convertComponent(double v) {
+    if constexpr (std::is_same_v<T, float>)
+        return toFloat(v);
+    else
+        return T(v);  // indices: exact non-negative integers below 2^32
+}
+
+template <typename T>
+void decodeElement(const uint8_t* p, const ElementFormat& f, T* out) {
+    for (int c = 0; c < f.components; ++c)
+        out[c] = convertComponent<T>(decodeComponent(p + uint64_t(c) * f.componentBytes, f));
 }
 
 /// The bytes of bufferView `index`, checked against its buffer.
@@ -103,8 +114,9 @@ void checkRange(uint64_t offset, uint64_t stride, uint64_t count, uint64_t eleme
               what, count, offset, stride, size);
 }
 
+template <typename T>
 void applySparse(const LoadContext& ctx, const tinygltf::Accessor& acc, const ElementFormat& f,
-                 std::vector<double>& values, const std::string& what) {
+                 std::vector<T>& values, const std::string& what) {
     const auto& sparse = acc.sparse;
     if (sparse.count < 1 || uint64_t(sparse.count) > acc.count)
         failf("{}: sparse count {} is outside 1..{}", what, sparse.count, acc.count);
@@ -141,9 +153,18 @@ void applySparse(const LoadContext& ctx, const tinygltf::Accessor& acc, const El
     }
 }
 
-/// Decodes the accessor to doubles (exact for every component type), sparse applied.
-std::vector<double> readAccessor(const LoadContext& ctx, int index, int type, uint64_t maxCount,
-                                 const std::string& what) {
+/// An accessor with no bufferView is all zeros plus its sparse values. Its count costs memory
+/// without costing file size, so it is capped (far above any real use) to stop a tiny file from
+/// asking for gigabytes.
+uint64_t maxZeroBaseCount(const tinygltf::Accessor& acc) {
+    uint64_t sparse = acc.sparse.isSparse && acc.sparse.count > 0 ? uint64_t(acc.sparse.count) : 0;
+    return std::max<uint64_t>(uint64_t(1) << 20, 64 * sparse);
+}
+
+/// Decodes accessor `index` (checked to be of `type`) to `T` values, sparse applied.
+template <typename T>
+std::vector<T> readAccessor(const LoadContext& ctx, int index, int type, uint64_t maxCount,
+                            const std::string& what) {
     const tinygltf::Accessor& acc = checkedAt(ctx.model.accessors, index, "accessor");
     std::string where = what + " (accessor " + std::to_string(index) + ")";
     if (acc.type != type)
@@ -154,22 +175,27 @@ std::vector<double> readAccessor(const LoadContext& ctx, int index, int type, ui
     f.components = componentsOf(type);
     f.normalized = acc.normalized;
     f.componentBytes = componentBytes(acc.componentType);
-    if (f.componentBytes == 0)
-        failf("{}: invalid componentType {}", where, acc.componentType);
+    if (f.componentBytes == 0) failf("{}: invalid componentType {}", where, acc.componentType);
     if (acc.count == 0) failf("{}: count is 0", where);
     if (acc.count > maxCount)
         failf("{}: count {} exceeds the limit of {}", where, acc.count, maxCount);
 
-    std::vector<double> values(acc.count * size_t(f.components), 0.0);
+    // Everything is checked before the output is allocated.
+    ByteSpan view;
+    uint64_t stride = f.bytes();
     if (acc.bufferView != -1) {
-        ByteSpan view = viewBytes(ctx, acc.bufferView, where);
+        view = viewBytes(ctx, acc.bufferView, where);
         uint64_t viewStride = ctx.model.bufferViews[size_t(acc.bufferView)].byteStride;
-        uint64_t stride = viewStride ? viewStride : f.bytes();
+        if (viewStride) stride = viewStride;
         checkRange(acc.byteOffset, stride, acc.count, f.bytes(), view.size, where);
+    } else if (acc.count > maxZeroBaseCount(acc)) {
+        failf("{}: count {} without a bufferView is implausibly large", where, acc.count);
+    }
+    std::vector<T> values(acc.count * size_t(f.components), T(0));
+    if (view.data)
         for (uint64_t i = 0; i < acc.count; ++i)
             decodeElement(view.data + acc.byteOffset + i * stride, f,
                           &values[i * uint64_t(f.components)]);
-    }
     // With no bufferView the base is all zeros (glTF 2.0, 3.6.2.3), usually filled in by sparse.
     if (acc.sparse.isSparse) applySparse(ctx, acc, f, values, where);
     return values;
@@ -192,10 +218,7 @@ int componentsOf(int type) {
 
 std::vector<float> readFloatAccessor(const LoadContext& ctx, int accessor, int type,
                                      uint64_t maxCount, const std::string& what) {
-    std::vector<double> values = readAccessor(ctx, accessor, type, maxCount, what);
-    std::vector<float> out(values.size());
-    for (size_t i = 0; i < values.size(); ++i) out[i] = toFloat(values[i]);
-    return out;
+    return readAccessor<float>(ctx, accessor, type, maxCount, what);
 }
 
 std::vector<uint32_t> readIndexAccessor(const LoadContext& ctx, int accessor, uint64_t maxCount,
@@ -207,10 +230,7 @@ std::vector<uint32_t> readIndexAccessor(const LoadContext& ctx, int accessor, ui
         failf("{} (accessor {}): index componentType {} is not an unsigned byte, short or int",
               what, accessor, ct);
     if (acc.normalized) failf("{} (accessor {}): indices must not be normalized", what, accessor);
-    std::vector<double> values = readAccessor(ctx, accessor, TINYGLTF_TYPE_SCALAR, maxCount, what);
-    std::vector<uint32_t> out(values.size());
-    for (size_t i = 0; i < values.size(); ++i) out[i] = uint32_t(values[i]);  // exact integers
-    return out;
+    return readAccessor<uint32_t>(ctx, accessor, TINYGLTF_TYPE_SCALAR, maxCount, what);
 }
 
 }  // namespace partita::gltf

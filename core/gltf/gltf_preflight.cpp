@@ -20,6 +20,42 @@ uint32_t readLe32(const std::vector<uint8_t>& bytes, uint64_t offset) {
            uint32_t(bytes[offset + 2]) << 16 | uint32_t(bytes[offset + 3]) << 24;
 }
 
+bool isBase64Char(char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '+' ||
+           c == '/';
+}
+
+/// Bytes that tinygltf's base64 decoder yields: it stops at the first character outside the
+/// alphabet (such as '=' padding).
+uint64_t decodedBase64Size(std::string_view payload) {
+    uint64_t n = 0;
+    while (n < payload.size() && isBase64Char(payload[n])) ++n;
+    return n / 4 * 3 + (n % 4 > 1 ? n % 4 - 1 : 0);
+}
+
+/// tinygltf reports a data: buffer whose size differs from byteLength by quoting the whole uri;
+/// say what is wrong instead.
+void checkDataUriBuffers(const nlohmann::json& root) {
+    auto buffers = root.find("buffers");
+    if (buffers == root.end() || !buffers->is_array()) return;
+    for (size_t i = 0; i < buffers->size(); ++i) {
+        const nlohmann::json& buffer = (*buffers)[i];
+        if (!buffer.is_object()) continue;
+        auto uri = buffer.find("uri");
+        auto byteLength = buffer.find("byteLength");
+        if (uri == buffer.end() || !uri->is_string() || byteLength == buffer.end() ||
+            !byteLength->is_number_unsigned())
+            continue;
+        const std::string& text = uri->get_ref<const std::string&>();
+        size_t comma = text.find(";base64,");
+        if (text.rfind("data:", 0) != 0 || comma == std::string::npos) continue;
+        uint64_t size = decodedBase64Size(std::string_view(text).substr(comma + 8));
+        uint64_t declared = byteLength->get<uint64_t>();
+        if (size != declared)
+            failf("buffer {}: its data: URI holds {} bytes but byteLength is {}", i, size, declared);
+    }
+}
+
 }  // namespace
 
 GlbLayout validateGlb(const std::vector<uint8_t>& bytes) {
@@ -86,6 +122,8 @@ void checkGltfJson(std::string_view json) {
         fail("glTF asset has no \"version\" string");
     const std::string& v = version->get_ref<const std::string&>();
     if (v.rfind("2.", 0) != 0) failf("glTF version {} is not supported (expected 2.x)", printableUri(v));
+
+    checkDataUriBuffers(root);
 
     auto required = root.find("extensionsRequired");
     if (required == root.end()) return;

@@ -136,7 +136,8 @@ public:
     /// The document with the buffer embedded as a data: URI.
     json embedded() const {
         json d = doc;
-        d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", dataUri(bin)}}});
+        if (!bin.empty())
+            d["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", dataUri(bin)}}});
         return d;
     }
 

@@ -287,13 +287,14 @@ TEST(Chi2Helper, PoolsLowCountCellsAndFlagsSupportViolations) {
     EXPECT_EQ(result.pValue, 0);
     // Few samples: most cells fall below 5 and are pooled, and the test still accepts.
     Chi2Options few;
-    few.sampleCount = 600;
+    few.sampleCount = 3000;
     auto uniformUpper = [](Rng& r) -> std::optional<Vec3f> {
         Vec3f w = sampleUniformSphere({r.nextFloat(), r.nextFloat()});
         return Vec3f(w.x, w.y, std::abs(w.z));
     };
     result = chi2Test(uniformUpper, upperPdf, rng, few);
     EXPECT_GT(result.pooledCells, 0);
+    EXPECT_GT(result.dof, 10);
     EXPECT_GE(result.pValue, partita::test::sidakLevel(kFamilyAlpha, chi2FamilySize()));
 }
 
@@ -374,7 +375,12 @@ TEST(BsdfLobes, Reciprocity) {
                 // Reflection: f(a, b) = f(b, a), in either transport mode.
                 Rgb fab = lobeEval(lobe, a, b, TransportMode::Radiance);
                 Rgb fba = lobeEval(lobe, b, a, TransportMode::Radiance);
-                EXPECT_TRUE(nearlyEqual(fab, fba)) << describe(lobe, a) << " " << fab.x << " " << fba.x;
+                // The exact dielectric Fresnel has a square-root singularity at the critical
+                // angle, so round-off eps in the cosine (evaluated from a or from b) can move F
+                // by ~sqrt(eps) = 2.4e-4; allow 4 sqrt(eps) there.
+                float tolerance = isTransmissiveLobe(lobe) ? kRelEps + 4 * 0x1p-12f : kRelEps;
+                EXPECT_TRUE(nearlyEqual(fab, fba, tolerance))
+                    << describe(lobe, a) << " " << fab.x << " " << fba.x;
                 EXPECT_TRUE(nearlyEqual(fab, lobeEval(lobe, a, b, TransportMode::Importance)));
                 nonZeroReflection += maxComponent(fab) > 0;
             } else {
@@ -382,9 +388,17 @@ TEST(BsdfLobes, Reciprocity) {
                 // f_importance(a, b) = f_radiance(b, a) (Veach's thesis, sec. 5.2).
                 Rgb fImp = lobeEval(lobe, a, b, TransportMode::Importance);
                 Rgb fRad = lobeEval(lobe, b, a, TransportMode::Radiance);
-                EXPECT_TRUE(nearlyEqual(fImp, fRad, 1e-3f))
-                    << describe(lobe, a) << " " << fImp.x << " " << fRad.x;
                 nonZeroTransmission += maxComponent(fImp) > 0;
+                // Conditioning: with c the smaller |cos| between a or b and the generalised half
+                // vector, the transmittance 1 - F and the projected-area factors vanish
+                // linearly as c -> 0, so float round-off (eps = 2^-24) in the half vector grows
+                // to about eps / c^2 relative; allow 16 eps / c^2 on top of kRelEps.
+                float eta = std::get<DielectricLobe>(lobe).eta;
+                Vec3f wm = normalize(a + b * (a.z > 0 ? eta : 1 / eta));
+                float c = std::min(absDot(a, wm), absDot(b, wm));
+                float tolerance = kRelEps + 16 * 0x1p-24f / std::max(c * c, 1e-12f);
+                EXPECT_TRUE(nearlyEqual(fImp, fRad, tolerance))
+                    << describe(lobe, a) << " " << fImp.x << " " << fRad.x << " c=" << c;
             }
         }
         EXPECT_GT(nonZeroReflection, 100) << lobeName(lobe);
@@ -719,18 +733,37 @@ TEST(BsdfWorld, ShadingNormalsDoNotLeakLight) {
             }
         }
     }
-    // wi on wo's side of ng but below ns: the lobe sees a transmission, the geometry a
-    // reflection. Rejected.
-    Vec3f wiFake = direction(70, kPi);
-    ASSERT_LT(dot(wiFake, ns), 0);
-    ASSERT_GT(dot(wiFake, ng), 0);
-    DielectricLobe rough{1.5f, 0.8f, Rgb(1.0f)};
-    EXPECT_GT(maxComponent(rough.eval(frame.toLocal(wo), frame.toLocal(wiFake),
-                                      TransportMode::Radiance)),
-              0);
-    Bsdf bsdf(frame, ng, rough);
-    EXPECT_EQ(bsdf.eval(wo, wiFake), Rgb(0.0f));
-    EXPECT_EQ(bsdf.pdf(wo, wiFake), 0.0f);
+    // Exhaustively: for every lobe, wo on either side and wi on a grid, whenever the lobe's
+    // shading-frame reflection/transmission disagrees with the geometric one and the local lobe
+    // gives a non-zero value, the wrapper must give zero.
+    std::vector<BsdfLobe> all = opaque;
+    all.push_back(DielectricLobe{1.5f, 0.8f, Rgb(1.0f)});
+    for (const BsdfLobe& lobe : all) {
+        Bsdf bsdf(frame, ng, lobe);
+        int leaks = 0;
+        for (Vec3f w : {wo, direction(60, kPi), below(direction(20, 0)), below(direction(70, kPi))}) {
+            for (int i = 1; i < 90; ++i)
+                for (int j = 0; j < 36; ++j) {
+                    Vec3f wi = direction(2.0f * i, 2 * kPi * j / 36);
+                    bool shadingReflect = dot(w, ns) * dot(wi, ns) > 0;
+                    bool geometricReflect = dot(w, ng) * dot(wi, ng) > 0;
+                    if (shadingReflect == geometricReflect) continue;
+                    // The local lobe as the wrapper would see it (mirrored for opaque lobes
+                    // hit from the back).
+                    Vec3f woL = frame.toLocal(w), wiL = frame.toLocal(wi);
+                    if (!isTransmissiveLobe(lobe) && dot(w, ng) < 0) {
+                        woL.z = -woL.z;
+                        wiL.z = -wiL.z;
+                    }
+                    if (maxComponent(lobeEval(lobe, woL, wiL, TransportMode::Radiance)) <= 0)
+                        continue;
+                    ++leaks;
+                    EXPECT_EQ(bsdf.eval(w, wi), Rgb(0.0f)) << lobeName(lobe);
+                    EXPECT_EQ(bsdf.pdf(w, wi), 0.0f) << lobeName(lobe);
+                }
+        }
+        EXPECT_GT(leaks, 0) << lobeName(lobe);  // the configuration does exercise the guard
+    }
 }
 
 TEST(BsdfWorld, AlbedoSemantics) {

@@ -28,23 +28,34 @@ void onSignal(int) { gCancel.store(true); }
 
 class BarObserver : public RenderObserver {
 public:
-    explicit BarObserver(ProgressBar& bar) : bar_(bar) {}
-    void onProgress(const RenderProgress& p) override { bar_.update(p); }
+    BarObserver(ProgressBar& bar, bool quiet) : bar_(bar), quiet_(quiet) {}
+    void onProgress(const RenderProgress& p) override {
+        if (!quiet_) bar_.update(p);
+    }
 
 private:
     ProgressBar& bar_;
+    bool quiet_;
 };
+
+/// Fail before rendering, not after, when an output cannot be written.
+void checkOutputFolder(const std::string& file) {
+    fs::path parent = fs::absolute(file).parent_path();
+    if (!fs::is_directory(parent)) throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
+}
 
 int renderCommand(const std::string& scenePath, RenderOptions& options, const std::string& outPath,
                   std::string pngPath, bool quiet) {
     if (std::string err = finalizeRenderOptions(options); !err.empty()) throw std::invalid_argument(err);
     if (pngPath.empty()) pngPath = fs::path(outPath).replace_extension(".png").string();
+    checkOutputFolder(outPath);
+    checkOutputFolder(pngPath);
     SceneData data = loadGltfFile(scenePath);
     for (const auto& w : data.warnings) spdlog::warn("{}", w);
     RenderScene scene(std::move(data));
     ThreadPool pool(options.threads);
     ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
-    BarObserver observer(bar);
+    BarObserver observer(bar, quiet);
     std::signal(SIGINT, onSignal);
     RenderResult result;
     try {

@@ -1,0 +1,58 @@
+#include "cli/connection.h"
+
+#include <chrono>
+
+#include "cli/file_util.h"
+
+namespace partita::cli {
+
+std::string readTokenFile(const std::string& path) {
+    std::string text;
+    try {
+        text = readFile(path);
+    } catch (const std::exception&) {
+        throw CliError("cannot read token file '" + path + "'");
+    }
+    size_t end = text.find_first_of("\r\n");
+    if (end != std::string::npos) text.resize(end);
+    const char* ws = " \t";
+    size_t b = text.find_first_not_of(ws);
+    if (b == std::string::npos) throw CliError("token file '" + path + "' is empty");
+    return text.substr(b, text.find_last_not_of(ws) - b + 1);
+}
+
+std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts) {
+    grpc::ChannelArguments args;
+    // Results and raw preview frames can be large; the server limits what it sends.
+    args.SetMaxReceiveMessageSize(-1);
+    args.SetMaxSendMessageSize(-1);
+    std::shared_ptr<grpc::ChannelCredentials> creds;
+    if (!opts.tlsCa.empty()) {
+        grpc::SslCredentialsOptions ssl;
+        try {
+            ssl.pem_root_certs = readFile(opts.tlsCa);
+        } catch (const std::exception&) {
+            throw CliError("cannot read TLS CA file '" + opts.tlsCa + "'");
+        }
+        if (!opts.tlsServerName.empty()) args.SetSslTargetNameOverride(opts.tlsServerName);
+        creds = grpc::SslCredentials(ssl);
+    } else {
+        creds = grpc::InsecureChannelCredentials();
+    }
+    return grpc::CreateCustomChannel(address, creds, args);
+}
+
+Connection::Connection(const std::string& address, const ServerOptions& opts)
+    : address_(address),
+      token_(opts.tokenFile.empty() ? std::string() : readTokenFile(opts.tokenFile)),
+      channel_(makeChannel(address, opts)),
+      stub_(partita::v1::Partita::NewStub(channel_)) {}
+
+void Connection::prepare(grpc::ClientContext& context, double deadlineSeconds) const {
+    if (!token_.empty()) context.AddMetadata("authorization", "Bearer " + token_);
+    if (deadlineSeconds > 0)
+        context.set_deadline(std::chrono::system_clock::now() +
+                             std::chrono::milliseconds(int64_t(deadlineSeconds * 1000)));
+}
+
+}  // namespace partita::cli

@@ -1,0 +1,62 @@
+// A connection to a partitad: the channel (plain on loopback, TLS with --tls-ca), the bearer
+// token from --token-file sent with every call, and helpers that turn failed calls into
+// CliErrors.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <memory>
+#include <string>
+
+#include "cli/errors.h"
+#include "partita/v1/partita.grpc.pb.h"
+
+namespace partita::cli {
+
+/// The global options that say how to reach a server.
+struct ServerOptions {
+    std::string server;     // HOST:PORT; empty = start a private daemon
+    std::string tokenFile;  // bearer token, sent as "authorization: Bearer <token>"
+    std::string tlsCa;      // PEM roots; set = TLS
+    std::string tlsServerName;  // override of the name checked in the server's certificate
+};
+
+/// Reads a token file: the first line, surrounding whitespace removed. Throws CliError when it
+/// is missing or empty.
+std::string readTokenFile(const std::string& path);
+
+std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts);
+
+class Connection {
+public:
+    using Stub = partita::v1::Partita::Stub;
+
+    /// `address` HOST:PORT. Reads the token and CA files now (so a bad path fails early).
+    Connection(const std::string& address, const ServerOptions& opts);
+
+    const std::string& address() const { return address_; }
+    const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
+    Stub& stub() { return *stub_; }
+
+    /// Adds the token and, when deadlineSeconds > 0, a deadline.
+    void prepare(grpc::ClientContext& context, double deadlineSeconds = 0) const;
+
+    /// A unary call with a deadline; a failure throws CliError("<what>: <message>", code).
+    template <class Req, class Resp>
+    Resp call(grpc::Status (Stub::*method)(grpc::ClientContext*, const Req&, Resp*),
+              const Req& request, const std::string& what, double deadlineSeconds = 60) {
+        grpc::ClientContext context;
+        prepare(context, deadlineSeconds);
+        Resp response;
+        grpc::Status status = ((*stub_).*method)(&context, request, &response);
+        if (!status.ok()) throwStatus(status, what);
+        return response;
+    }
+
+private:
+    std::string address_, token_;
+    std::shared_ptr<grpc::Channel> channel_;
+    std::unique_ptr<Stub> stub_;
+};
+
+}  // namespace partita::cli

@@ -1,0 +1,40 @@
+// The server a command talks to: the one named by --server, or a private daemon started for
+// this command (private_daemon.h) and stopped when the session ends.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cli/connection.h"
+#include "cli/private_daemon.h"
+
+namespace partita::cli {
+
+/// The options every command shares.
+struct GlobalOptions {
+    ServerOptions server;
+    bool quiet = false;  // no progress bar, no informational lines
+};
+
+class Session {
+public:
+    /// `threads` is passed to a private daemon (ignored with --server).
+    Session(const GlobalOptions& global, int threads = 0);
+    ~Session();
+
+    Connection& connection() { return *connection_; }
+    bool isPrivate() const { return daemon_ != nullptr; }
+
+    /// Checks an algorithm name against the server's list (GetServerInfo), so that a typo fails
+    /// before anything is uploaded. Throws CliError(..., "INVALID_ARGUMENT").
+    void checkAlgorithm(const std::string& algorithm);
+
+private:
+    std::unique_ptr<PrivateDaemon> daemon_;
+    std::unique_ptr<Connection> connection_;
+};
+
+/// Throws CliError when no --server is given: `command` works on jobs of a lasting server.
+void requireServer(const GlobalOptions& global, const std::string& command);
+
+}  // namespace partita::cli

@@ -1,0 +1,120 @@
+// One render job: its record (spec, state, times, progress, statistics), its state machine, its
+// cancel flag, and the fan-out of its events to watchers.
+//
+// States: QUEUED -> LOADING -> (PREPASS) -> RENDERING -> DONE | FAILED | CANCELLED; an active job
+// goes back to QUEUED when the daemon stops under it. Every transition is persisted (through the
+// Persist callback) before watchers hear of it, so a watcher that saw DONE can fetch the result.
+//
+// Watchers get every state change in order, the latest progress and the latest preview frame:
+// a slow watcher skips intermediate progress and frames, never a state change or the final
+// frame. Nothing here waits for a watcher: events are handed over under a short lock.
+#pragma once
+
+#include <grpcpp/support/status.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "algorithm.h"
+#include "preview_frame.h"
+#include "proto.h"
+
+namespace partita::server {
+
+/// Receives a job's events. Called with the job's lock held: implementations only queue.
+class JobWatcher {
+public:
+    virtual ~JobWatcher() = default;
+    virtual void onState(const pb::Job& job) = 0;
+    virtual void onProgress(const pb::Progress& progress) = 0;
+    virtual void onFrame(std::shared_ptr<const PreviewFrameData> frame) = 0;
+    /// No more events will come; end the watch with `status` (daemon shutting down, job deleted).
+    virtual void onClose(const grpc::Status& status) = 0;
+};
+
+enum class CancelReason { None, User, Shutdown };
+
+bool isTerminal(pb::JobState state);
+bool isActive(pb::JobState state);  // LOADING, PREPASS or RENDERING
+/// "QUEUED", "RENDERING", ...
+std::string stateName(pb::JobState state);
+int64_t nowUnixMs();
+
+class Job {
+public:
+    /// Persists a new record before it takes effect; throws to refuse it (e.g. disk error).
+    using Persist = std::function<void(const pb::Job& next, const std::string& note)>;
+
+    /// `record.spec` carries no scene bytes. `sequence` orders jobs of equal priority.
+    Job(pb::Job record, int64_t sequence);
+
+    const std::string& id() const { return id_; }
+    int64_t sequence() const { return sequence_; }
+    int priority() const { return spec_.priority(); }
+    const pb::JobSpec& spec() const { return spec_; }
+    pb::Job snapshot() const;
+    pb::JobState state() const;
+
+    /// Moves to `next` when that is a valid step from the current state; returns false (and does
+    /// nothing) otherwise. `error` becomes the record's error (cleared when empty); `stats`, when
+    /// given, replaces its statistics. Times are kept: started on LOADING, finished on a terminal
+    /// state. Throws what `persist` throws, leaving the job unchanged.
+    bool transition(pb::JobState next, const std::string& error, const Persist& persist,
+                    const std::string& note = {}, const std::map<std::string, double>* stats = nullptr);
+
+    /// Records the progress; passes it to watchers at most every 0.25 s (and on a phase change).
+    void publishProgress(const RenderProgress& progress);
+    /// A new preview (or, with final, the result image).
+    void publishFrame(LayeredImage image, bool final);
+    /// Replaces the in-memory final frame by one read back from the result file when asked for,
+    /// so that finished jobs hold no images in memory.
+    void keepFinalFrameOnDisk(const std::filesystem::path& resultExr);
+
+    void requestCancel(CancelReason reason);
+    CancelReason cancelReason() const { return cancelReason_.load(); }
+    const std::atomic<bool>& cancelFlag() const { return cancel_; }
+    bool cancelRequested() const { return cancel_.load(); }
+    /// Back to a fresh state before running again (after a shutdown re-queued it).
+    void clearCancel();
+
+    /// Adds a watcher and immediately gives it the current state and the latest frame. A watcher
+    /// of a finished job gets those and nothing more. RESOURCE_EXHAUSTED beyond `maxWatchers`.
+    grpc::Status addWatcher(std::shared_ptr<JobWatcher> watcher, bool previews, int maxWatchers);
+    void removeWatcher(const JobWatcher* watcher);
+    /// Ends every watch with `status`.
+    void closeWatchers(const grpc::Status& status);
+
+    /// "[job <id>]", the prefix of every log line about this job.
+    std::string tag() const { return "[job " + id_ + "]"; }
+
+private:
+    struct WatcherEntry {
+        std::shared_ptr<JobWatcher> watcher;
+        bool previews;
+    };
+
+    const std::string id_;
+    const int64_t sequence_;
+    const pb::JobSpec spec_;
+    mutable std::mutex mutex_;
+    pb::Job record_;
+    std::vector<WatcherEntry> watchers_;
+    std::shared_ptr<const PreviewFrameData> latestFrame_;
+    uint64_t frameCount_ = 0;
+    std::chrono::steady_clock::time_point lastProgressSent_{};
+    std::string lastPhase_;
+    std::atomic<bool> cancel_{false};
+    std::atomic<CancelReason> cancelReason_{CancelReason::None};
+};
+
+/// The Progress message of a core progress report.
+pb::Progress toProto(const RenderProgress& progress);
+
+}  // namespace partita::server

@@ -1,0 +1,188 @@
+#include "job_runner.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <fstream>
+#include <new>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "image_io.h"
+#include "render_scene.h"
+#include "renderer.h"
+#include "validation.h"
+
+namespace partita::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Thrown between the loading steps when the job was cancelled.
+struct CancelledWhileLoading {};
+
+/// Maps the algorithm's progress phases to job states and forwards progress and previews.
+class JobObserver : public RenderObserver {
+public:
+    JobObserver(Job& job, const Job::Persist& persist) : job_(job), persist_(persist) {}
+
+    void onProgress(const RenderProgress& p) override {
+        pb::JobState target = p.phase == "prepass"  ? pb::JOB_STATE_PREPASS
+                              : p.phase == "render" ? pb::JOB_STATE_RENDERING
+                                                    : pb::JOB_STATE_UNSPECIFIED;
+        if (target != pb::JOB_STATE_UNSPECIFIED) advance(target);
+        job_.publishProgress(p);
+    }
+
+    void onPreview(const LayeredImage& image, const RenderStats&) override { job_.publishFrame(image, false); }
+
+    /// Moves forward to `state` (no-op when already there or past it).
+    void advance(pb::JobState state) {
+        try {
+            if (job_.transition(state, "", persist_))
+                spdlog::info("{} {}", job_.tag(), state == pb::JOB_STATE_PREPASS ? "pre-pass" : "rendering");
+        } catch (const std::exception& e) {
+            // The render goes on; the state is recorded at the next transition that succeeds.
+            spdlog::error("{} could not record state {}: {}", job_.tag(), stateName(state), e.what());
+        }
+    }
+
+private:
+    Job& job_;
+    const Job::Persist& persist_;
+};
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("the uploaded scene of this job is missing from the store");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+SceneData loadScene(const Job& job, const RunContext& ctx) {
+    const pb::SceneSource& source = job.spec().scene();
+    if (source.has_scene_name()) return ctx.scenes.loadNamed(source.scene_name());
+    pb::SceneSource upload;
+    if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
+        throw std::runtime_error("the uploaded scene of this job is damaged in the store");
+    return SceneSource::loadUpload(upload, uint64_t(ctx.limits.maxUploadBytes));
+}
+
+std::string budgetKindName(BudgetKind k) {
+    return k == BudgetKind::SamplesPerPixel ? "spp" : k == BudgetKind::MutationsPerPixel ? "mpp" : "seconds";
+}
+
+std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderResult& result) {
+    const RenderSettings& s = v.settings;
+    pb::Job record = job.snapshot();
+    nlohmann::ordered_json j;
+    j["job_id"] = job.id();
+    j["label"] = job.spec().label();
+    j["scene"] = job.spec().scene().has_scene_name() ? job.spec().scene().scene_name() : "upload";
+    j["algorithm"] = v.algorithm;
+    j["parameters"] = {{"width", s.width},
+                       {"height", s.height},
+                       {"camera", s.cameraName},
+                       {"budget_kind", budgetKindName(s.budgetKind)},
+                       {"budget", s.budget},
+                       {"seed", s.seed},
+                       {"max_depth", s.maxDepth},
+                       {"k", s.partitions},
+                       {"y", s.guideCandidates},
+                       {"radius", s.guideRadius},
+                       {"epsilon", s.guideEpsilon},
+                       {"max_type_layers", s.maxTypeLayers},
+                       {"preview_interval_seconds", s.previewIntervalSeconds},
+                       {"priority", job.spec().priority()}};
+    nlohmann::ordered_json stats = nlohmann::ordered_json::object();
+    for (const auto& [k, value] : result.stats.values) stats[k] = value;
+    j["stats"] = stats;
+    nlohmann::ordered_json labels = nlohmann::ordered_json::object();
+    for (const auto& [k, value] : result.stats.labels) labels[k] = value;
+    j["labels"] = labels;
+    nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+    for (const auto& l : result.image.layers) layers.push_back(l.name);
+    j["layers"] = layers;
+    j["created_unix_ms"] = record.created_unix_ms();
+    j["started_unix_ms"] = record.started_unix_ms();
+    j["written_unix_ms"] = nowUnixMs();
+    j["render"] = describeRender(v.algorithm, s, result.stats);
+    return j.dump(2) + "\n";
+}
+
+void writeResults(const Job& job, const RunContext& ctx, const ValidatedSpec& v, const RenderResult& result) {
+    fs::path dir = ctx.store.jobDir(job.id());
+    fs::create_directories(dir);
+    auto attributes = describeRender(v.algorithm, v.settings, result.stats);
+    attributes["partita:job_id"] = job.id();
+    writeExr(dir / kResultExr, result.image, attributes);
+    writePng(dir / kResultPng, result.image.combined, autoExposure(result.image.combined));
+    JobStore::writeFileAtomic(dir / kResultMetadata, metadataJson(job, v, result));
+}
+
+/// Ends a job that did not finish: FAILED with `error`, or (error empty) cancelled or re-queued.
+void endUnfinished(Job& job, const Job::Persist& persist, const std::string& error) {
+    try {
+        if (!error.empty()) {
+            job.transition(pb::JOB_STATE_FAILED, error, persist);
+            spdlog::warn("{} failed: {}", job.tag(), error);
+        } else if (job.cancelReason() == CancelReason::Shutdown) {
+            std::string note = "re-queued: partitad stopped while the job was " + stateName(job.state());
+            if (job.transition(pb::JOB_STATE_QUEUED, note, persist, note))
+                spdlog::info("{} re-queued (daemon shutting down); it runs again after restart", job.tag());
+        } else {
+            job.transition(pb::JOB_STATE_CANCELLED, "", persist, "cancelled by a client");
+            spdlog::info("{} cancelled", job.tag());
+        }
+    } catch (const std::exception& e) {
+        spdlog::error("{} could not record its end: {}", job.tag(), e.what());
+    }
+}
+
+}  // namespace
+
+void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
+    auto started = std::chrono::steady_clock::now();
+    auto checkCancel = [&] {
+        if (job.cancelRequested()) throw CancelledWhileLoading{};
+    };
+    try {
+        checkCancel();
+        if (!job.transition(pb::JOB_STATE_LOADING, "", persist)) return;
+        const pb::SceneSource& source = job.spec().scene();
+        spdlog::info("{} loading scene '{}'", job.tag(), source.has_scene_name() ? source.scene_name() : "upload");
+        ValidatedSpec v;
+        if (grpc::Status s = settingsFromSpec(job.spec(), ctx.limits, v); !s.ok())
+            throw std::runtime_error(s.error_message());
+        SceneData data = loadScene(job, ctx);
+        for (const auto& w : data.warnings) spdlog::warn("{} scene: {}", job.tag(), w);
+        checkCancel();
+        RenderScene scene(std::move(data));
+        checkCancel();
+
+        JobObserver observer(job, persist);
+        RenderResult result = runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        writeResults(job, ctx, v, result);
+        double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        std::map<std::string, double> stats = result.stats.values;
+        stats["job_seconds"] = seconds;
+        job.publishFrame(std::move(result.image), true);
+        observer.advance(pb::JOB_STATE_RENDERING);
+        job.transition(pb::JOB_STATE_DONE, "", persist, "", &stats);
+        job.keepFinalFrameOnDisk(ctx.store.jobDir(job.id()) / kResultExr);
+        spdlog::info("{} done in {:.2f} s", job.tag(), seconds);
+    } catch (const RenderCancelled&) {
+        endUnfinished(job, persist, "");
+    } catch (const CancelledWhileLoading&) {
+        endUnfinished(job, persist, "");
+    } catch (const std::bad_alloc&) {
+        endUnfinished(job, persist, "out of memory");
+    } catch (const std::exception& e) {
+        std::string msg = e.what();
+        endUnfinished(job, persist, msg.empty() ? "unknown error" : msg);
+    }
+}
+
+}  // namespace partita::server

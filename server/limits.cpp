@@ -1,0 +1,15 @@
+#include "limits.h"
+
+namespace partita::server {
+
+RenderLimits ServiceLimits::renderLimits() const {
+    RenderLimits r;
+    r.maxWidth = maxWidth;
+    r.maxHeight = maxHeight;
+    r.maxSamplesPerPixel = maxSamplesPerPixel;
+    r.maxSeconds = maxSeconds;
+    r.maxDepth = maxDepth;
+    return r;
+}
+
+}  // namespace partita::server

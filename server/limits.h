@@ -1,0 +1,25 @@
+// What one daemon accepts: the resource limits set on its command line. Requests beyond them are
+// RESOURCE_EXHAUSTED; malformed values (negative sizes, out-of-range parameters) are
+// INVALID_ARGUMENT (see validation.h).
+#pragma once
+
+#include <cstdint>
+
+#include "render_settings.h"
+
+namespace partita::server {
+
+struct ServiceLimits {
+    int maxWidth = 8192, maxHeight = 8192;
+    double maxSamplesPerPixel = 65536;  // also the limit on mutations per pixel
+    double maxSeconds = 24 * 3600.0;
+    int64_t maxUploadBytes = int64_t(256) << 20;
+    int maxQueuedJobs = 1000;
+    int maxWatchersPerJob = 64;
+    int maxDepth = 1024;
+
+    /// The same limits in the core's terms, for partita::validateSettings.
+    RenderLimits renderLimits() const;
+};
+
+}  // namespace partita::server

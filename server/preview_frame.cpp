@@ -1,0 +1,67 @@
+#include "preview_frame.h"
+
+#include <cstring>
+
+#include "image_io.h"
+
+namespace partita::server {
+
+PreviewFrameData::PreviewFrameData(uint64_t sequence, bool final, LayeredImage image)
+    : sequence_(sequence), final_(final), image_(std::make_shared<const LayeredImage>(std::move(image))) {}
+
+PreviewFrameData::PreviewFrameData(uint64_t sequence, std::filesystem::path resultExr)
+    : sequence_(sequence), final_(true), exr_(std::move(resultExr)) {}
+
+std::shared_ptr<const LayeredImage> PreviewFrameData::image() const {
+    if (image_) return image_;
+    return std::make_shared<const LayeredImage>(readExr(exr_));
+}
+
+namespace {
+
+std::string rawBytes(const Image& image) {
+    static_assert(sizeof(float) == 4);
+    // The wire format is little-endian float32; so is every platform partitad builds on.
+    std::string bytes(image.rgb.size() * sizeof(float), '\0');
+    if (!bytes.empty()) std::memcpy(bytes.data(), image.rgb.data(), bytes.size());
+    return bytes;
+}
+
+std::string toString(const std::vector<uint8_t>& v) { return std::string(v.begin(), v.end()); }
+
+}  // namespace
+
+pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
+    std::shared_ptr<const LayeredImage> img = image();
+    std::vector<std::string> pngs;
+    {
+        std::lock_guard lock(mutex_);
+        if (pngs_) pngs = *pngs_;
+    }
+    if (pngs.empty()) {
+        // Encoding outside the lock: two watchers racing at most encode twice, never block.
+        float exposure = autoExposure(img->combined);
+        pngs.push_back(toString(encodePng(img->combined, exposure)));
+        for (const auto& layer : img->layers) pngs.push_back(toString(encodePng(layer.image, exposure)));
+        if (image_) {
+            std::lock_guard lock(mutex_);
+            if (!pngs_) pngs_ = pngs;
+        }
+    }
+    pb::PreviewFrame frame;
+    frame.set_sequence(sequence_);
+    frame.set_final(final_);
+    auto addLayer = [&](const std::string& name, const Image& image, std::string& png) {
+        pb::PreviewLayer* layer = frame.add_layers();
+        layer->set_name(name);
+        layer->set_width(image.width);
+        layer->set_height(image.height);
+        layer->set_png(std::move(png));
+        if (raw) layer->set_raw_rgb_f32(rawBytes(image));
+    };
+    addLayer("combined", img->combined, pngs[0]);
+    for (size_t i = 0; i < img->layers.size(); ++i) addLayer(img->layers[i].name, img->layers[i].image, pngs[i + 1]);
+    return frame;
+}
+
+}  // namespace partita::server

@@ -1,0 +1,46 @@
+// One preview frame of a job, shared by all its watchers. The render hands over float images;
+// the PNGs are encoded the first time a watcher is about to send the frame (on a service thread,
+// never a render thread), once for all watchers. A slow watcher that skips frames never makes
+// anyone encode them.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "image.h"
+#include "proto.h"
+
+namespace partita::server {
+
+class PreviewFrameData {
+public:
+    /// A frame held in memory (previews during the render, and the final image).
+    PreviewFrameData(uint64_t sequence, bool final, LayeredImage image);
+    /// The final frame of a finished job, read back from its result EXR when a watcher asks.
+    PreviewFrameData(uint64_t sequence, std::filesystem::path resultExr);
+
+    uint64_t sequence() const { return sequence_; }
+    bool isFinal() const { return final_; }
+
+    /// The frame as sent: layer "combined" first, then one per type layer, each an sRGB PNG with
+    /// the combined image's automatic exposure; with `raw`, also the float32 pixels. Thread-safe.
+    /// Throws std::runtime_error when a frame on disk cannot be read.
+    pb::PreviewFrame encode(bool raw) const;
+
+private:
+    std::shared_ptr<const LayeredImage> image() const;  // loads a disk-backed frame
+
+    uint64_t sequence_;
+    bool final_;
+    std::shared_ptr<const LayeredImage> image_;  // null for a disk-backed frame
+    std::filesystem::path exr_;
+    mutable std::mutex mutex_;
+    mutable std::optional<std::vector<std::string>> pngs_;  // cached encoding (in-memory frames)
+};
+
+}  // namespace partita::server

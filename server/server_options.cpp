@@ -1,0 +1,117 @@
+#include "server_options.h"
+
+#include <arpa/inet.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstring>
+
+namespace partita::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// The host part of "host:port" or "[v6]:port" ("" when malformed).
+std::string hostOf(const std::string& listen) {
+    if (!listen.empty() && listen.front() == '[') {
+        size_t close = listen.find(']');
+        return close == std::string::npos ? "" : listen.substr(1, close - 1);
+    }
+    size_t colon = listen.rfind(':');
+    return colon == std::string::npos ? listen : listen.substr(0, colon);
+}
+
+}  // namespace
+
+bool isLoopbackAddress(const std::string& listen) {
+    if (listen.rfind("unix:", 0) == 0 || listen.rfind("unix-abstract:", 0) == 0) return true;
+    std::string host = hostOf(listen);
+    if (host == "localhost") return true;
+    in_addr v4{};
+    if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+    in6_addr v6{};
+    if (inet_pton(AF_INET6, host.c_str(), &v6) == 1) {
+        if (std::memcmp(&v6, &in6addr_loopback, sizeof v6) == 0) return true;
+        // ::ffff:127.x.y.z
+        static const unsigned char mapped[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xff, 0xff};
+        return std::memcmp(v6.s6_addr, mapped, 12) == 0 && v6.s6_addr[12] == 127;
+    }
+    return false;
+}
+
+int parseServerOptions(int argc, char** argv, ServerOptions& o) {
+    CLI::App app{"partitad: the Partita render daemon (gRPC service partita.v1.Partita)"};
+    app.set_version_flag("--version", PARTITA_VERSION);
+    double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
+    app.add_option("--listen", o.listen, "address to listen on, host:port (port 0: any free port)")
+        ->capture_default_str();
+    app.add_option("--store", o.store, "job store folder (SQLite database + one folder per job)")
+        ->capture_default_str();
+    app.add_option("--scene-root", o.sceneRoot, "folder of named scenes (default: ./scenes if it exists)");
+    app.add_option("--threads", o.threads, "render threads shared by all jobs (0: one per core)")
+        ->capture_default_str();
+    app.add_option("--max-jobs", o.maxJobs, "jobs rendering at the same time")->capture_default_str();
+    app.add_option("--tls-cert", o.tlsCert, "PEM certificate chain: serve TLS (with --tls-key)");
+    app.add_option("--tls-key", o.tlsKey, "PEM private key of --tls-cert");
+    app.add_option("--token-file", o.tokenFile,
+                   "file holding the token clients must send as 'authorization: Bearer <token>'");
+    app.add_flag("--insecure", o.insecure, "allow a non-loopback address without TLS and token");
+    app.add_option("--port-file", o.portFile, "write the bound port to this file once listening");
+    app.add_option("--log-level", o.logLevel, "trace, debug, info, warn, error")->capture_default_str();
+    app.add_option("--max-width", o.limits.maxWidth, "largest image width")->capture_default_str();
+    app.add_option("--max-height", o.limits.maxHeight, "largest image height")->capture_default_str();
+    app.add_option("--max-spp", o.limits.maxSamplesPerPixel, "largest samples (or mutations) per pixel")
+        ->capture_default_str();
+    app.add_option("--max-seconds", o.limits.maxSeconds, "largest time budget, seconds")->capture_default_str();
+    app.add_option("--max-upload-mb", uploadMb, "largest uploaded scene (all its files), MiB")
+        ->capture_default_str();
+    app.add_option("--max-queued", o.limits.maxQueuedJobs, "most jobs waiting in the queue")
+        ->capture_default_str();
+    app.add_option("--max-watchers", o.limits.maxWatchersPerJob, "most watchers of one job")
+        ->capture_default_str();
+    app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")->capture_default_str();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "partitad: %s (see --help)\n", e.what());
+        return 2;
+    }
+    if (!(uploadMb > 0) || uploadMb > 4096) {
+        std::fprintf(stderr, "partitad: --max-upload-mb must be in (0, 4096]\n");
+        return 2;
+    }
+    o.limits.maxUploadBytes = int64_t(uploadMb * (1 << 20));
+    return -1;
+}
+
+std::string finalizeServerOptions(ServerOptions& o) {
+    if (o.threads < 0) return "--threads must be >= 0";
+    if (o.maxJobs < 1 || o.maxJobs > 256) return "--max-jobs must be in 1..256";
+    const ServiceLimits& l = o.limits;
+    if (l.maxWidth < 1 || l.maxHeight < 1) return "--max-width and --max-height must be >= 1";
+    if (!(l.maxSamplesPerPixel >= 1)) return "--max-spp must be >= 1";
+    if (!(l.maxSeconds > 0)) return "--max-seconds must be > 0";
+    if (l.maxQueuedJobs < 1) return "--max-queued must be >= 1";
+    if (l.maxWatchersPerJob < 1) return "--max-watchers must be >= 1";
+    if (l.maxDepth < 1) return "--max-depth must be >= 1";
+    if (o.store.empty()) return "--store must name a folder";
+    if (o.tlsCert.empty() != o.tlsKey.empty()) return "--tls-cert and --tls-key go together";
+    bool tls = !o.tlsCert.empty(), token = !o.tokenFile.empty();
+    if (!isLoopbackAddress(o.listen) && !(tls && token) && !o.insecure)
+        return "refusing to listen on non-loopback address '" + o.listen +
+               "' without TLS and a token: give --tls-cert, --tls-key and --token-file, or --insecure "
+               "to allow it anyway";
+    if (o.sceneRoot.empty()) {
+        std::error_code ec;
+        if (fs::is_directory("scenes", ec)) o.sceneRoot = "scenes";
+    } else {
+        std::error_code ec;
+        if (!fs::is_directory(o.sceneRoot, ec)) return "--scene-root '" + o.sceneRoot.string() + "' is not a folder";
+    }
+    return {};
+}
+
+}  // namespace partita::server

@@ -1,0 +1,158 @@
+#include "validation.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "algorithm.h"
+#include "gltf/resource_resolver.h"
+#include "scene_source.h"
+
+namespace partita::server {
+
+namespace {
+
+grpc::Status invalid(const std::string& message) { return {grpc::StatusCode::INVALID_ARGUMENT, message}; }
+grpc::Status exhausted(const std::string& message) { return {grpc::StatusCode::RESOURCE_EXHAUSTED, message}; }
+
+std::string num(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+std::string algorithmList() {
+    std::string names;
+    for (const auto& n : AlgorithmRegistry::instance().names()) names += (names.empty() ? "" : ", ") + n;
+    return names;
+}
+
+const char* budgetUnit(BudgetKind k) {
+    switch (k) {
+        case BudgetKind::SamplesPerPixel: return "samples per pixel";
+        case BudgetKind::MutationsPerPixel: return "mutations per pixel";
+        case BudgetKind::Seconds: return "seconds";
+    }
+    return "?";
+}
+
+grpc::Status checkScene(const pb::SceneSource& scene, const ServiceLimits& limits) {
+    switch (scene.source_case()) {
+        case pb::SceneSource::SOURCE_NOT_SET:
+            return invalid("the job names no scene: set scene.scene_name, scene.glb or scene.gltf");
+        case pb::SceneSource::kSceneName:
+            if (std::string why = SceneSource::checkName(scene.scene_name()); !why.empty())
+                return invalid("invalid scene name: " + why);
+            return grpc::Status::OK;
+        case pb::SceneSource::kGlb:
+            if (scene.glb().empty()) return invalid("the uploaded GLB is empty");
+            break;
+        case pb::SceneSource::kGltf: {
+            if (scene.gltf().gltf().empty()) return invalid("the uploaded glTF is empty");
+            std::set<std::string> seen;
+            for (const auto& r : scene.gltf().resources()) {
+                if (std::string why = checkRelativeUri(r.uri()); !why.empty())
+                    return invalid("uploaded resource '" + printableUri(r.uri()) + "' refused: " + why);
+                if (!seen.insert(r.uri()).second)
+                    return invalid("resource '" + printableUri(r.uri()) + "' is uploaded twice");
+            }
+            break;
+        }
+    }
+    uint64_t bytes = SceneSource::uploadBytes(scene);
+    if (bytes > uint64_t(limits.maxUploadBytes))
+        return exhausted("the uploaded scene has " + std::to_string(bytes) + " bytes, over this server's limit of " +
+                         std::to_string(limits.maxUploadBytes) + " (--max-upload-mb)");
+    return grpc::Status::OK;
+}
+
+}  // namespace
+
+grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out) {
+    if (grpc::Status s = checkScene(spec.scene(), limits); !s.ok()) return s;
+    return settingsFromSpec(spec, limits, out);
+}
+
+grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out) {
+    registerBuiltinAlgorithms();
+
+    out.algorithm = spec.algorithm().empty() ? "pt" : spec.algorithm();
+    const auto* entry = AlgorithmRegistry::instance().find(out.algorithm);
+    if (!entry) return invalid("unknown algorithm '" + out.algorithm + "' (this server has: " + algorithmList() + ")");
+
+    RenderSettings& s = out.settings;
+    s = RenderSettings{};
+    if (spec.camera().size() > 256) return invalid("the camera name is longer than 256 characters");
+    if (spec.label().size() > 1024) return invalid("the label is longer than 1024 characters");
+    s.cameraName = spec.camera();
+
+    if (spec.has_width()) s.width = spec.width();
+    if (spec.has_height()) s.height = spec.height();
+    if (s.width < 1 || s.height < 1)
+        return invalid("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                       " is invalid: width and height must be >= 1");
+    if (s.width > limits.maxWidth || s.height > limits.maxHeight)
+        return exhausted("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                         " exceeds this server's limit of " + std::to_string(limits.maxWidth) + "x" +
+                         std::to_string(limits.maxHeight));
+
+    bool budgetSet = spec.has_budget() &&
+                     !(spec.budget().kind() == pb::BUDGET_KIND_UNSPECIFIED && spec.budget().amount() == 0);
+    if (!budgetSet) {
+        s.budgetKind = entry->nativeBudget;
+        s.budget = 16;
+    } else {
+        int kind = spec.budget().kind();
+        if (!pb::BudgetKind_IsValid(kind)) return invalid("unknown budget kind " + std::to_string(kind));
+        switch (kind) {
+            case pb::BUDGET_KIND_SAMPLES_PER_PIXEL: s.budgetKind = BudgetKind::SamplesPerPixel; break;
+            case pb::BUDGET_KIND_MUTATIONS_PER_PIXEL: s.budgetKind = BudgetKind::MutationsPerPixel; break;
+            case pb::BUDGET_KIND_SECONDS: s.budgetKind = BudgetKind::Seconds; break;
+            default:
+                return invalid(
+                    "budget kind is unspecified: set samples per pixel, mutations per pixel or seconds");
+        }
+        s.budget = spec.budget().amount();
+        if (s.budgetKind != BudgetKind::Seconds && s.budgetKind != entry->nativeBudget)
+            return invalid("algorithm '" + out.algorithm + "' takes its budget in " + budgetUnit(entry->nativeBudget) +
+                           " or seconds, not " + budgetUnit(s.budgetKind));
+        if (!std::isfinite(s.budget) || s.budget <= 0)
+            return invalid("the budget must be a positive number, got " + num(s.budget));
+        if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
+            return exhausted("time budget " + num(s.budget) + " s exceeds this server's limit of " +
+                             num(limits.maxSeconds) + " s");
+        if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
+            return exhausted("budget " + num(s.budget) + " " + budgetUnit(s.budgetKind) +
+                             " exceeds this server's limit of " + num(limits.maxSamplesPerPixel));
+    }
+
+    if (spec.has_k()) s.partitions = spec.k();
+    if (spec.has_y()) s.guideCandidates = spec.y();
+    if (spec.has_radius()) s.guideRadius = spec.radius();
+    if (spec.has_epsilon()) s.guideEpsilon = spec.epsilon();
+    if (spec.has_seed()) s.seed = spec.seed();
+    if (spec.has_max_depth()) s.maxDepth = spec.max_depth();
+    if (spec.has_max_type_layers()) s.maxTypeLayers = spec.max_type_layers();
+    if (spec.has_preview_interval_seconds()) {
+        double p = spec.preview_interval_seconds();
+        if (!std::isfinite(p) || p < 0 || (p > 0 && p < 0.05))
+            return invalid("preview interval must be 0 (no previews) or at least 0.05 s, got " + num(p));
+        s.previewIntervalSeconds = p;
+    }
+    if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty()) return invalid(err);
+    return grpc::Status::OK;
+}
+
+pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec) {
+    pb::JobSpec out = spec;
+    pb::SceneSource* scene = out.mutable_scene();
+    if (scene->has_glb()) {
+        scene->set_glb("");
+    } else if (scene->has_gltf()) {
+        scene->mutable_gltf()->clear_gltf();
+        for (auto& r : *scene->mutable_gltf()->mutable_resources()) r.clear_data();
+    }
+    return out;
+}
+
+}  // namespace partita::server

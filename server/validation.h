@@ -1,0 +1,35 @@
+// A JobSpec checked against the contract and this server's limits, and mapped to the core's
+// RenderSettings. Codes (DESIGN.md): a malformed request is INVALID_ARGUMENT (unknown enum value,
+// unknown algorithm, parameter out of range); asking for more than the server allows is
+// RESOURCE_EXHAUSTED (resolution, budget, upload size). Whether a named scene exists is checked
+// by the caller (scene_source.h), not here.
+#pragma once
+
+#include <grpcpp/support/status.h>
+
+#include <string>
+
+#include "limits.h"
+#include "proto.h"
+#include "render_settings.h"
+
+namespace partita::server {
+
+struct ValidatedSpec {
+    std::string algorithm;
+    RenderSettings settings;
+};
+
+/// The defaults of unset fields: algorithm "pt", the algorithm's native budget unit with 16 per
+/// pixel, RenderSettings' defaults for everything else.
+grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out);
+
+/// validateJobSpec without the scene checks: for a stored spec (whose scene bytes live in the
+/// store) when the job runs.
+grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out);
+
+/// The spec as stored and echoed back: the scene bytes replaced by nothing (an upload keeps its
+/// oneof case and its resource names, so clients can still tell it was an upload).
+pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec);
+
+}  // namespace partita::server
