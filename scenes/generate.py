@@ -305,6 +305,7 @@ class Scene:
         # expectations that --check verifies by casting rays from the camera
         self.must_see = []  # mesh names that must cover part of the image
         self.max_light_fraction = 0.02  # share of the image that may show an emitter directly
+        self.open_glass = []  # transmissive meshes that are deliberately not closed
 
     def texture(self, png):
         self.images.append(png)
@@ -410,7 +411,7 @@ class Scene:
                                          "aspectRatio": clean(ASPECT),
                                          "znear": 0.01}}],
             "meshes": gmeshes,
-            "materials": [m for m in self.materials],
+            "materials": list(self.materials),
             "accessors": accessors,
             "bufferViews": views,
             "buffers": [{"uri": self.name + ".bin", "byteLength": len(blob)}],
@@ -531,7 +532,7 @@ def cornell_shell(s, strength):
 
 def scene_cornell():
     s = Scene("cornell")
-    white = cornell_shell(s, 16.0)
+    white = cornell_shell(s, 17.0)
     for name, quads in (("short_block", CB_SHORT), ("tall_block", CB_TALL)):
         m = s.mesh(name, white)
         pts = [cb(*p) for q in quads for p in q]
@@ -553,10 +554,10 @@ def max3(pts):
 
 def scene_cornell_glass():
     s = Scene("cornell-glass")
-    cornell_shell(s, 16.0)
-    r = 0.33
-    add_sphere(s.mesh("mirror_sphere", mirror(s)), (-0.42, r, -0.38), r)
-    add_sphere(s.mesh("glass_sphere", glass(s)), (0.42, r, 0.28), r)
+    cornell_shell(s, 17.0)
+    r = 0.33  # resting 1 mm above the floor
+    add_sphere(s.mesh("mirror_sphere", mirror(s)), (-0.42, r + 0.001, -0.38), r)
+    add_sphere(s.mesh("glass_sphere", glass(s)), (0.42, r + 0.001, 0.28), r)
     s.must_see = ["mirror_sphere", "glass_sphere", "light"]
     return s
 
@@ -603,19 +604,22 @@ def scene_door_ajar():
     add_oriented_box(s.mesh("door", door_m), hinge, ea, (0.0, leaf_h, 0.0), ec)
 
     # the lamp: a ceiling panel in room B, left of the door, which the wall hides from the camera
-    lamp = s.mesh("light", light(s, 400.0))
+    lamp = s.mesh("light", light(s, 500.0))
     add_rect(lamp, (-1.6, H - 0.002, -5.7), (-0.4, H - 0.002, -4.6), (0, -1, 0))
 
-    # a table with a glass sphere and a glass box on it
+    # a table with a glass sphere and a glass box on it (glass lifted 1 mm off the top, so that no
+    # glass face is coplanar with another surface)
     table = s.mesh("table", wood)
     tx, tz, ty = -0.7, -2.4, 0.75
     add_box(table, (tx, ty - 0.025, tz), (1.2, 0.05, 0.8))
     for sx in (-1, 1):
         for sz in (-1, 1):
-            add_box(table, (tx + sx * 0.52, (ty - 0.05) / 2, tz + sz * 0.32), (0.06, ty - 0.05, 0.06))
+            add_box(table, (tx + sx * 0.52, (ty - 0.05) / 2, tz + sz * 0.32),
+                    (0.06, ty - 0.05, 0.06), skip=("-b", "+b"))
     g = glass(s)
-    add_sphere(s.mesh("glass_sphere", g), (tx - 0.2, ty + 0.16, tz + 0.05), 0.16)
-    add_box(s.mesh("glass_box", g), (tx + 0.3, ty + 0.1, tz - 0.1), (0.2, 0.2, 0.2), math.radians(30))
+    add_sphere(s.mesh("glass_sphere", g), (tx - 0.2, ty + 0.161, tz + 0.05), 0.16)
+    add_box(s.mesh("glass_box", g), (tx + 0.3, ty + 0.101, tz - 0.1), (0.2, 0.2, 0.2),
+            math.radians(30))
 
     s.look_at((-1.7, 1.55, -0.35), (0.35, 0.95, -4.0), 52.0)
     s.must_see = ["door", "table", "glass_sphere", "glass_box", "partition"]
@@ -630,7 +634,7 @@ def scene_door_ajar():
 
 def scene_bathroom():
     s = Scene("bathroom")
-    tiles = s.texture(tile_texture((236, 236, 232), (196, 212, 222), (120, 124, 128)))
+    tiles = s.texture(tile_texture((236, 236, 232), (212, 222, 230), (160, 164, 168)))
     tile_m = s.material("tiles", base=(1.0, 1.0, 1.0), texture=tiles)
     floor_m = s.material("floor_tiles", base=(0.55, 0.55, 0.55), texture=tiles)
     ceiling_m = s.material("ceiling", base=(0.85, 0.85, 0.85))
@@ -648,27 +652,30 @@ def scene_bathroom():
 
     # counter along the back wall, mirror above it
     add_box(s.mesh("counter", counter_m), (-0.55, 0.425, -D + 0.275), (1.7, 0.85, 0.55),
+            skip=("-b", "-c"))
+    frame_m = s.material("frame", base=(0.10, 0.10, 0.10))
+    add_box(s.mesh("mirror_frame", frame_m), (-0.55, 1.45, -D + 0.01), (1.56, 0.96, 0.02),
             skip=("-c",))
-    add_rect(s.mesh("mirror", mirror(s)), (-1.3, 1.0, -D + 0.004), (0.2, 1.9, -D + 0.004),
+    add_rect(s.mesh("mirror", mirror(s)), (-1.3, 1.0, -D + 0.021), (0.2, 1.9, -D + 0.021),
              (0, 0, 1))
 
     # shower in the right back corner: a tray and a 1 cm glass panel closing its front
     g = glass(s)
     sx0, sz1 = 0.55, -0.35
     add_box(s.mesh("shower_tray", tray_m), ((sx0 + W) / 2, 0.03, (sz1 - D) / 2),
-            (W - sx0, 0.06, sz1 + D), skip=("+a", "-c"))
-    add_box(s.mesh("shower_panel", g), ((sx0 + 0.05 + W) / 2, 0.06 + 0.95, sz1),
-            (W - sx0 - 0.05, 1.9, 0.01))
+            (W - sx0, 0.06, sz1 + D), skip=("+a", "-b", "-c"))
+    add_box(s.mesh("shower_panel", g), ((sx0 + 0.05 + W - 0.001) / 2, 0.061 + 0.95, sz1 - 0.006),
+            (W - 0.001 - sx0 - 0.05, 1.9, 0.01))
 
-    # glass objects on the counter
-    top = 0.85
-    add_sphere(s.mesh("glass_sphere", g), (-0.95, top + 0.09, -D + 0.3), 0.09)
-    add_box(s.mesh("glass_box", g), (-0.45, top + 0.07, -D + 0.28), (0.14, 0.14, 0.14),
+    # glass objects on the counter, 1 mm above it
+    top = 0.851
+    add_sphere(s.mesh("glass_sphere", g), (-0.95, top + 0.12, -D + 0.3), 0.12)
+    add_box(s.mesh("glass_box", g), (-0.45, top + 0.09, -D + 0.28), (0.18, 0.18, 0.18),
             math.radians(35))
-    add_sphere(s.mesh("glass_ball", g), (-0.1, top + 0.05, -D + 0.38), 0.05, 24, 16)
+    add_sphere(s.mesh("glass_ball", g), (-0.08, top + 0.06, -D + 0.36), 0.06, 24, 16)
 
     # the ceiling spot: 20 cm square, between counter and shower
-    lamp = s.mesh("light", light(s, 250.0))
+    lamp = s.mesh("light", light(s, 180.0))
     add_rect(lamp, (-0.2, H - 0.002, -0.9), (0.0, H - 0.002, -0.7), (0, -1, 0))
 
     s.look_at((-1.15, 1.6, 1.3), (0.05, 0.95, -1.2), 60.0)
@@ -681,10 +688,10 @@ def scene_bathroom():
 
 
 POOL_WAVES = [  # (amplitude m, wavelength m, direction degrees, phase)
-    (0.020, 1.30, 20.0, 0.3),
-    (0.014, 0.83, 110.0, 1.7),
-    (0.010, 0.57, 65.0, 4.1),
-    (0.006, 0.41, 160.0, 2.6),
+    (0.035, 1.20, 20.0, 0.3),
+    (0.022, 0.80, 110.0, 1.7),
+    (0.014, 0.60, 65.0, 4.1),
+    (0.008, 0.45, 160.0, 2.6),
 ]
 
 
@@ -710,7 +717,7 @@ def wave_gradient(x, z):
 
 def scene_pool():
     s = Scene("pool")
-    tiles = s.texture(tile_texture((236, 242, 244), (200, 226, 236), (150, 160, 166)))
+    tiles = s.texture(tile_texture((236, 242, 244), (218, 234, 240), (150, 160, 166)))
     pool_m = s.material("pool_tiles", base=(0.55, 0.80, 0.90), texture=tiles)
     deck_m = s.material("deck", base=(0.62, 0.60, 0.56))
     wall_m = s.material("hall_wall", base=(0.75, 0.75, 0.72))
@@ -740,12 +747,14 @@ def scene_pool():
     add_heightfield(water, -PX, PX, -PZ, PZ, 64, 48,
                     lambda x, z: wave_height(x, z, level), wave_gradient)
 
-    # the lamp: 40 cm square, facing down, above the pool and off-centre
-    lamp = s.mesh("light", light(s, 120.0))
-    add_rect(lamp, (-0.6, HH - 0.002, -0.9), (-0.2, HH - 0.002, -0.5), (0, -1, 0))
+    # the lamp: 20 cm square, facing down, above the pool and off-centre (small, so that the
+    # caustics on the pool floor stay sharp)
+    lamp = s.mesh("light", light(s, 600.0))
+    add_rect(lamp, (-0.5, HH - 0.002, -0.8), (-0.3, HH - 0.002, -0.6), (0, -1, 0))
 
-    s.look_at((0.6, 2.3, 4.2), (-0.2, -1.0, -0.4), 50.0)
+    s.look_at((0.4, 1.9, 3.3), (-0.2, -1.0, -0.6), 55.0)
     s.must_see = ["water", "pool_basin", "deck", "hall_walls"]
+    s.open_glass = ["water"]
     return s
 
 
@@ -899,6 +908,18 @@ def check_scene(path, scene):
             mat = doc["materials"][prim["material"]]
             if max(mat.get("emissiveFactor", [0, 0, 0])) > 0:
                 emissive.add(len(names))
+            transmissive = "KHR_materials_transmission" in mat.get("extensions", {})
+            if transmissive and mesh["name"] not in scene.open_glass:
+                # a dielectric must enclose a volume: welded by position, every edge is shared
+                # by exactly two triangles, once in each direction
+                key = [tuple(round(c, 5) for c in p) for p in pos]
+                edges = {}
+                for t in range(0, len(idx), 3):
+                    for a, b in ((0, 1), (1, 2), (2, 0)):
+                        e = (key[idx[t + a]], key[idx[t + b]])
+                        edges[e] = edges.get(e, 0) + 1
+                if any(c != 1 or edges.get((e[1], e[0])) != 1 for e, c in edges.items()):
+                    errors.append("%s: glass mesh is not closed" % mesh["name"])
             for t in range(0, len(idx), 3):
                 p0, p1, p2 = pos[idx[t]], pos[idx[t + 1]], pos[idx[t + 2]]
                 gn = cross(sub(p1, p0), sub(p2, p0))
