@@ -63,8 +63,8 @@ std::optional<BsdfSample> DiffuseConductorMixLobe::sample(Vec3f wo, float uc, Ve
     // Choose a lobe with probability equal to its weight; both lobes ignore uc, so it needs no
     // remapping. The returned f and pdf are the whole mixture's (the one-sample MIS form), so
     // f cos / pdf never has the spikes of a single lobe's weight.
-    std::optional<BsdfSample> s = uc < metallic ? conductor.sample(wo, uc, u, mode)
-                                                : diffuse.sample(wo, uc, u, mode);
+    std::optional<BsdfSample> s =
+        uc < metallic ? conductor.sample(wo, uc, u, mode) : diffuse.sample(wo, uc, u, mode);
     if (!s) return std::nullopt;
     s->f = eval(wo, s->wi, mode);
     s->pdf = pdf(wo, s->wi);

@@ -17,8 +17,8 @@
 namespace partita {
 
 struct ConductorLobe {
-    Rgb f0{1.0f};       // Schlick's F0 (glTF: base colour)
-    float alpha = 0.1f; // GGX alpha (glTF: roughness^2), clamped to kMinAlpha
+    Rgb f0{1.0f};        // Schlick's F0 (glTF: base colour)
+    float alpha = 0.1f;  // GGX alpha (glTF: roughness^2), clamped to kMinAlpha
 
     Rgb eval(Vec3f wo, Vec3f wi, TransportMode mode) const;
     float pdf(Vec3f wo, Vec3f wi) const;

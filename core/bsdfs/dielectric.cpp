@@ -8,8 +8,8 @@ namespace {
 
 // Everything eval, pdf and sample share, for a pair (wo, wi) and its (generalised) half vector.
 struct Interaction {
-    Vec3f wm;          // microfacet normal, wm.z > 0
-    float etap = 1;    // n(wi side) / n(wo side); 1 for reflection
+    Vec3f wm;        // microfacet normal, wm.z > 0
+    float etap = 1;  // n(wi side) / n(wo side); 1 for reflection
     bool reflection = true;
 };
 

@@ -15,7 +15,7 @@ namespace partita {
 constexpr float kMinAlpha = 1e-3f;
 
 class TrowbridgeReitz {
-public:
+  public:
     explicit TrowbridgeReitz(float alpha) : alpha_(std::max(alpha, kMinAlpha)) {}
 
     float alpha() const { return alpha_; }
@@ -37,7 +37,7 @@ public:
     /// Draw wm from D_w (Heitz 2018). `w` may be on either side; wm.z > 0 always.
     Vec3f sampleVisibleNormal(Vec3f w, Vec2f u) const;
 
-private:
+  private:
     float alpha_;
 };
 

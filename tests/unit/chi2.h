@@ -3,9 +3,10 @@
 // The sphere of directions is cut into a (theta, phi) grid, theta in [0, pi] from +z, phi in
 // [0, 2 pi). A sampler is run N times and the directions binned; the expected count of a bin is
 // N times the integral of the claimed solid-angle pdf over the bin, computed by adaptive
-// Gauss-Legendre cubature in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return nullopt,
-// e.g. a GGX reflection below the horizon); failures form one more cell whose expected count is
-// N (1 - integral of the pdf), so a pdf that claims too much or too little mass is caught too.
+// Gauss-Legendre cubature in (theta, phi) with the sin(theta) Jacobian. Samplers may fail (return
+// nullopt, e.g. a GGX reflection below the horizon); failures form one more cell whose expected
+// count is N (1 - integral of the pdf), so a pdf that claims too much or too little mass is caught
+// too.
 //
 // Pearson's statistic needs every expected count to be large enough for its chi-square
 // approximation (the usual rule: >= 5). Cells below that are pooled, smallest first, into one
@@ -102,10 +103,10 @@ struct Chi2Result {
     double statistic = 0;
     int dof = 0;
     double pValue = 0;
-    double pdfIntegral = 0;       // integral of the pdf over the sphere
-    long failures = 0;            // sampler returned nothing
-    long supportViolations = 0;   // samples in cells with zero expected count
-    int pooledCells = 0;          // cells merged into the low-count pool
+    double pdfIntegral = 0;      // integral of the pdf over the sphere
+    long failures = 0;           // sampler returned nothing
+    long supportViolations = 0;  // samples in cells with zero expected count
+    int pooledCells = 0;         // cells merged into the low-count pool
     std::string describe() const {
         std::ostringstream os;
         os << "chi2 = " << statistic << ", dof = " << dof << ", p = " << pValue
@@ -134,7 +135,8 @@ inline double gaussCell(const DirectionPdf& pdf, double t0, double t1, double p0
     for (int i = 0; i < 4; ++i) {
         double theta = tc + th * x[i];
         double s = std::sin(theta);
-        for (int j = 0; j < 4; ++j) sum += w[i] * w[j] * s * pdf(sphericalDirection(theta, pc + ph * x[j]));
+        for (int j = 0; j < 4; ++j)
+            sum += w[i] * w[j] * s * pdf(sphericalDirection(theta, pc + ph * x[j]));
     }
     return sum * th * ph;
 }
@@ -155,7 +157,8 @@ inline double integrateCell(const DirectionPdf& pdf, double t0, double t1, doubl
                    gaussCell(pdf, t0, tm, pm, p1), gaussCell(pdf, tm, t1, pm, p1)};
     double refined = q[0] + q[1] + q[2] + q[3];
     double n = opts.sampleCount;
-    double tolerance = opts.integrationTolerance * std::sqrt(std::max(1.0, refined * n)) * share / n;
+    double tolerance =
+        opts.integrationTolerance * std::sqrt(std::max(1.0, refined * n)) * share / n;
     if (std::abs(refined - whole) <= tolerance || depth >= opts.maxIntegrationDepth) return refined;
     return integrateCell(pdf, t0, tm, p0, pm, opts, depth + 1, q[0], share / 2) +
            integrateCell(pdf, tm, t1, p0, pm, opts, depth + 1, q[1], share / 2) +

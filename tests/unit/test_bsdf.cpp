@@ -5,8 +5,12 @@
 // Deterministic float comparisons use a relative epsilon stated at each use.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <ostream>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -38,11 +42,13 @@ Vec3f direction(float thetaDeg, float phi) {
     float t = thetaDeg * kPi / 180;
     return Vec3f(std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t));
 }
-Vec3f below(Vec3f w) { return Vec3f(w.x, w.y, -w.z); }
+Vec3f below(Vec3f w) {
+    return Vec3f(w.x, w.y, -w.z);
+}
 
 const char* lobeName(const BsdfLobe& lobe) {
-    static const char* names[] = {"Lambert",   "Conductor",        "Dielectric",
-                                  "Mirror",    "SmoothDielectric", "DiffuseConductorMix"};
+    static const char* names[] = {"Lambert", "Conductor",        "Dielectric",
+                                  "Mirror",  "SmoothDielectric", "DiffuseConductorMix"};
     return names[lobe.index()];
 }
 
@@ -51,7 +57,8 @@ std::string describe(const BsdfLobe& lobe, Vec3f wo) {
     std::visit(
         [&](const auto& l) {
             using L = std::decay_t<decltype(l)>;
-            if constexpr (std::is_same_v<L, ConductorLobe>) s += " alpha=" + std::to_string(l.alpha);
+            if constexpr (std::is_same_v<L, ConductorLobe>)
+                s += " alpha=" + std::to_string(l.alpha);
             if constexpr (std::is_same_v<L, DielectricLobe>)
                 s += " alpha=" + std::to_string(l.alpha) + " eta=" + std::to_string(l.eta);
             if constexpr (std::is_same_v<L, DiffuseConductorMixLobe>)
@@ -104,10 +111,10 @@ std::vector<LobeCase> nonDiracCases() {
         for (Vec3f wo : outsideDirections())
             cases.push_back({ConductorLobe{Rgb(0.9f, 0.6f, 0.3f), alpha}, wo});
         for (Vec3f wo : outsideDirections())
-            cases.push_back({DiffuseConductorMixLobe{LambertLobe{Rgb(0.7f)},
-                                                     ConductorLobe{Rgb(0.9f, 0.6f, 0.3f), alpha},
-                                                     0.4f},
-                             wo});
+            cases.push_back(
+                {DiffuseConductorMixLobe{LambertLobe{Rgb(0.7f)},
+                                         ConductorLobe{Rgb(0.9f, 0.6f, 0.3f), alpha}, 0.4f},
+                 wo});
         for (Vec3f wo : bothSideDirections())
             cases.push_back({DielectricLobe{1.5f, alpha, Rgb(1.0f)}, wo});
     }
@@ -122,7 +129,9 @@ std::vector<LobeCase> nonDiracCases() {
 // Family-wise significance of all chi-square tests in this file.
 constexpr double kFamilyAlpha = 1e-3;
 
-int chi2FamilySize() { return int(nonDiracCases().size()) + 2; }  // + the fine-grid cases
+int chi2FamilySize() {
+    return int(nonDiracCases().size()) + 2;
+}  // + the fine-grid cases
 
 void runChi2(const BsdfLobe& lobe, Vec3f wo, uint64_t stream, const Chi2Options& opts = {}) {
     Rng rng(20240611, stream);
@@ -229,7 +238,8 @@ bool nearlyEqual(Rgb a, Rgb b, float rel = kRelEps) {
 TEST(Chi2Helper, IncompleteGammaMatchesClosedForms) {
     // Q(1, x) = exp(-x); Q(1/2, x) = erfc(sqrt(x)); both branches (x < a + 1 and x >= a + 1).
     for (double x : {0.1, 0.7, 1.5, 3.0, 12.0, 40.0}) {
-        EXPECT_NEAR(partita::test::regularizedGammaQ(1.0, x), std::exp(-x), 1e-12 + 1e-10 * std::exp(-x));
+        EXPECT_NEAR(partita::test::regularizedGammaQ(1.0, x), std::exp(-x),
+                    1e-12 + 1e-10 * std::exp(-x));
         EXPECT_NEAR(partita::test::regularizedGammaQ(0.5, x), std::erfc(std::sqrt(x)), 1e-12);
     }
     // Q(n, x) = exp(-x) sum_{k<n} x^k / k! for integer n.
@@ -265,12 +275,19 @@ TEST(Chi2Helper, AcceptsCorrectAndRejectsWrongSamplers) {
     ConductorLobe a{Rgb(1.0f), 0.36f}, b{Rgb(1.0f), 0.36f * 1.1f};
     Vec3f wo = direction(35, 0.3f);
     auto ggx = [&](Rng& r) -> std::optional<Vec3f> {
-        auto s = a.sample(wo, r.nextFloat(), {r.nextFloat(), r.nextFloat()}, TransportMode::Radiance);
+        auto s =
+            a.sample(wo, r.nextFloat(), {r.nextFloat(), r.nextFloat()}, TransportMode::Radiance);
         if (!s) return std::nullopt;
         return s->wi;
     };
-    EXPECT_GE(chi2Test(ggx, [&](Vec3f w) { return double(a.pdf(wo, w)); }, rng).pValue, level);
-    EXPECT_LT(chi2Test(ggx, [&](Vec3f w) { return double(b.pdf(wo, w)); }, rng).pValue, level);
+    EXPECT_GE(chi2Test(
+                  ggx, [&](Vec3f w) { return double(a.pdf(wo, w)); }, rng)
+                  .pValue,
+              level);
+    EXPECT_LT(chi2Test(
+                  ggx, [&](Vec3f w) { return double(b.pdf(wo, w)); }, rng)
+                  .pValue,
+              level);
 }
 
 TEST(Chi2Helper, PoolsLowCountCellsAndFlagsSupportViolations) {
@@ -301,10 +318,18 @@ TEST(Chi2Helper, PoolsLowCountCellsAndFlagsSupportViolations) {
 // =============================================================================================
 // Chi-square: sample() against pdf() for every non-Dirac lobe
 
-TEST(BsdfChi2, Lambert) { runChi2ForLobe(lobeIndexOf<LambertLobe>()); }
-TEST(BsdfChi2, Conductor) { runChi2ForLobe(lobeIndexOf<ConductorLobe>()); }
-TEST(BsdfChi2, DiffuseConductorMix) { runChi2ForLobe(lobeIndexOf<DiffuseConductorMixLobe>()); }
-TEST(BsdfChi2, Dielectric) { runChi2ForLobe(lobeIndexOf<DielectricLobe>()); }
+TEST(BsdfChi2, Lambert) {
+    runChi2ForLobe(lobeIndexOf<LambertLobe>());
+}
+TEST(BsdfChi2, Conductor) {
+    runChi2ForLobe(lobeIndexOf<ConductorLobe>());
+}
+TEST(BsdfChi2, DiffuseConductorMix) {
+    runChi2ForLobe(lobeIndexOf<DiffuseConductorMixLobe>());
+}
+TEST(BsdfChi2, Dielectric) {
+    runChi2ForLobe(lobeIndexOf<DielectricLobe>());
+}
 
 TEST(BsdfChi2, SmallRoughnessOnFineGrid) {
     // alpha = 0.0225 (roughness 0.15): the lobe spans a few coarse bins only, so use a grid
@@ -528,7 +553,8 @@ TEST(BsdfDirac, MirrorReflectsWithSchlickFresnel) {
         EXPECT_FALSE(s->isTransmission);
         EXPECT_EQ(s->pdf, 1.0f);
         EXPECT_TRUE(nearlyEqual(s->wi, Vec3f(-wo.x, -wo.y, wo.z)));
-        EXPECT_TRUE(nearlyEqual(s->f * (std::abs(s->wi.z) / s->pdf), fresnelSchlick(wo.z, mirror.tint)));
+        EXPECT_TRUE(
+            nearlyEqual(s->f * (std::abs(s->wi.z) / s->pdf), fresnelSchlick(wo.z, mirror.tint)));
         EXPECT_EQ(mirror.eval(wo, s->wi, TransportMode::Radiance), Rgb(0.0f));
         EXPECT_EQ(mirror.pdf(wo, s->wi), 0.0f);
         EXPECT_FALSE(mirror.sample(below(wo), 0.5f, {0.3f, 0.7f}, TransportMode::Radiance));
@@ -639,7 +665,8 @@ TEST(BsdfWorld, WorldQueriesMatchLocalLobe) {
         Vec3f wo = frame.toWorld(woL), wi = frame.toWorld(wiL);
         woL = frame.toLocal(wo);
         wiL = frame.toLocal(wi);
-        EXPECT_TRUE(nearlyEqual(bsdf.eval(wo, wi), lobe.eval(woL, wiL, TransportMode::Radiance), 1e-3f));
+        EXPECT_TRUE(
+            nearlyEqual(bsdf.eval(wo, wi), lobe.eval(woL, wiL, TransportMode::Radiance), 1e-3f));
         EXPECT_TRUE(nearlyEqual(bsdf.pdf(wo, wi), lobe.pdf(woL, wiL), 1e-3f));
         float uc = rng.nextFloat();
         Vec2f u(rng.nextFloat(), rng.nextFloat());
@@ -694,9 +721,9 @@ TEST(BsdfWorld, ShadingNormalsDoNotLeakLight) {
     Vec3f wiLeak = direction(100, 0.0f);
     ASSERT_GT(dot(wiLeak, ns), 0);
     ASSERT_LT(dot(wiLeak, ng), 0);
-    std::vector<BsdfLobe> opaque = {LambertLobe{Rgb(0.5f)}, ConductorLobe{Rgb(1.0f), 0.5f},
-                                    DiffuseConductorMixLobe{LambertLobe{Rgb(0.5f)},
-                                                            ConductorLobe{Rgb(1.0f), 0.5f}, 0.5f}};
+    std::vector<BsdfLobe> opaque = {
+        LambertLobe{Rgb(0.5f)}, ConductorLobe{Rgb(1.0f), 0.5f},
+        DiffuseConductorMixLobe{LambertLobe{Rgb(0.5f)}, ConductorLobe{Rgb(1.0f), 0.5f}, 0.5f}};
     for (const BsdfLobe& lobe : opaque) {
         Bsdf bsdf(frame, ng, lobe);
         EXPECT_EQ(bsdf.eval(wo, wiLeak), Rgb(0.0f)) << lobeName(lobe);
@@ -741,7 +768,8 @@ TEST(BsdfWorld, ShadingNormalsDoNotLeakLight) {
     for (const BsdfLobe& lobe : all) {
         Bsdf bsdf(frame, ng, lobe);
         int leaks = 0;
-        for (Vec3f w : {wo, direction(60, kPi), below(direction(20, 0)), below(direction(70, kPi))}) {
+        for (Vec3f w :
+             {wo, direction(60, kPi), below(direction(20, 0)), below(direction(70, kPi))}) {
             for (int i = 1; i < 90; ++i)
                 for (int j = 0; j < 36; ++j) {
                     Vec3f wi = direction(2.0f * i, 2 * kPi * j / 36);
@@ -774,7 +802,9 @@ TEST(BsdfWorld, AlbedoSemantics) {
     EXPECT_EQ(Bsdf(f, ng, MirrorLobe{Rgb(0.5f)}).albedo(), Rgb(0.5f));
     EXPECT_EQ(Bsdf(f, ng, SmoothDielectricLobe{1.5f, Rgb(0.6f)}).albedo(), Rgb(0.6f));
     EXPECT_EQ(Bsdf(f, ng, DielectricLobe{1.5f, 0.1f, Rgb(0.7f)}).albedo(), Rgb(0.7f));
-    Bsdf mix(f, ng, DiffuseConductorMixLobe{LambertLobe{Rgb(0.2f)}, ConductorLobe{Rgb(1.0f), 0.1f}, 0.25f});
+    Bsdf mix(
+        f, ng,
+        DiffuseConductorMixLobe{LambertLobe{Rgb(0.2f)}, ConductorLobe{Rgb(1.0f), 0.1f}, 0.25f});
     EXPECT_TRUE(nearlyEqual(mix.albedo(), Rgb(0.75f * 0.2f + 0.25f)));
     EXPECT_TRUE(Bsdf(f, ng, MirrorLobe{}).isDelta());
     EXPECT_TRUE(Bsdf(f, ng, SmoothDielectricLobe{}).isDelta());
@@ -803,7 +833,8 @@ Texture checker(Rgb t00, Rgb t10, Rgb t01, Rgb t11) {
     t.width = 2;
     t.height = 2;
     t.filter = TextureFilter::Nearest;
-    for (Rgb c : {t00, t10, t01, t11}) t.rgba.insert(t.rgba.end(), {c.x, c.y, c.z, 1.0f});
+    t.rgba = {t00.x, t00.y, t00.z, 1, t10.x, t10.y, t10.z, 1,
+              t01.x, t01.y, t01.z, 1, t11.x, t11.y, t11.z, 1};
     return t;
 }
 
@@ -876,7 +907,8 @@ TEST(MaterialMapping, SmoothMetalIsMirror) {
     // Mostly metallic: the mirror keeps its glTF weight.
     m.metallic = 0.7f;
     m.roughness = 0.015f;
-    EXPECT_TRUE(nearlyEqual(lobeAs<MirrorLobe>(makeBsdf(m, none, flatPoint())).tint, m.baseColor * 0.7f));
+    EXPECT_TRUE(
+        nearlyEqual(lobeAs<MirrorLobe>(makeBsdf(m, none, flatPoint())).tint, m.baseColor * 0.7f));
     // Mostly dielectric and smooth: the diffuse part keeps its weight, never a Dirac+D mix.
     m.metallic = 0.3f;
     EXPECT_TRUE(nearlyEqual(lobeAs<LambertLobe>(makeBsdf(m, none, flatPoint())).reflectance,
