@@ -8,6 +8,10 @@ CMAKE_ARGS ?=
 SCENE      ?= scenes/cornell/cornell.gltf
 DEMO_SPP   ?= 64
 
+# ccache keys on relative paths under the checkout, so a fresh clone elsewhere (CI) still hits.
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+
 .PHONY: all deps configure build test demo bench fuzz format scenes clean
 
 all: build
