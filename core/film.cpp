@@ -37,25 +37,30 @@ struct alignas(64) Film::Tile {
 
     TilePixels combined{};
     std::vector<TypeBuffer> types;
-    size_t lastUsed = 0;  // index into `types` of the type of the previous sample (cache)
+    // Cache: per number of scattering vertices, the index into `types` of the last type used
+    // with that count. A path reports types of increasing length, so a single "last used" entry
+    // would miss every other sample; keyed by length it hits unless two types of equal length
+    // (differing only in which vertices are specular) alternate.
+    std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
 
     TilePixels& bufferFor(PathType type) {
-        if (lastUsed < types.size() && types[lastUsed].type == type) return *types[lastUsed].pixels;
+        uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
+        if (last < types.size() && types[last].type == type) return *types[last].pixels;
         for (size_t i = 0; i < types.size(); ++i) {
             if (types[i].type == type) {
-                lastUsed = i;
+                last = uint32_t(i);
                 return *types[i].pixels;
             }
         }
         types.push_back({type, std::make_unique<TilePixels>()});
-        lastUsed = types.size() - 1;
+        last = uint32_t(types.size() - 1);
         return *types.back().pixels;
     }
 
     void clear() {
         combined.fill(Rgb(0.0f));
         types.clear();
-        lastUsed = 0;
+        lastByLength.fill(0);
     }
 };
 

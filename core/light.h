@@ -35,6 +35,9 @@ struct AreaLight {
     bool twoSided = false;
     uint32_t mesh = 0, triangle = 0;
     Rgb emission{0.0f};
+    /// The material has an emissive texture: the radiance varies over the triangle and must be
+    /// looked up; otherwise it is `emission` everywhere.
+    bool texturedEmission = false;
 };
 
 struct PointLight {

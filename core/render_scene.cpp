@@ -27,11 +27,43 @@ void embreeError(void*, RTCError code, const char* message) {
 
 RenderScene::RenderScene(SceneData data) : data_(std::move(data)), embree_(std::make_unique<Embree>()) {
     bounds_ = data_.bounds();
+    prepareMeshes();
     buildAccel();
     buildLights();
 }
 
 RenderScene::~RenderScene() = default;
+
+namespace {
+/// Whether makeBsdf reads a texture for this material (then the BSDF varies over the surface).
+bool bsdfUsesTextures(const Material& m) {
+    return m.baseColorTexture.valid() || m.metallicRoughnessTexture.valid() || m.transmissionTexture.valid();
+}
+}  // namespace
+
+void RenderScene::prepareMeshes() {
+    meshes_.resize(data_.meshes.size());
+    size_t triangleCount = 0;
+    for (const TriangleMesh& mesh : data_.meshes) triangleCount += mesh.triangleCount();
+    triangles_.resize(triangleCount);
+    uint32_t first = 0;
+    for (size_t m = 0; m < data_.meshes.size(); ++m) {
+        const TriangleMesh& mesh = data_.meshes[m];
+        MeshInfo& info = meshes_[m];
+        info.material = mesh.material >= 0 ? &data_.materials[size_t(mesh.material)] : &defaultMaterial_;
+        info.firstTriangle = first;
+        info.constantBsdf = !bsdfUsesTextures(*info.material);
+        // Without textures makeBsdf's lobe does not depend on the point, only its frame does.
+        if (info.constantBsdf) info.lobe = makeBsdf(*info.material, data_.textures, SurfacePoint{}).lobe();
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Vec3f& p0 = mesh.positions[mesh.indices[3 * t]];
+            const Vec3f& p1 = mesh.positions[mesh.indices[3 * t + 1]];
+            const Vec3f& p2 = mesh.positions[mesh.indices[3 * t + 2]];
+            triangles_[first + t].ng = normalize(cross(p1 - p0, p2 - p0));
+        }
+        first += uint32_t(mesh.triangleCount());
+    }
+}
 
 void RenderScene::buildAccel() {
     embree_->device = rtcNewDevice(nullptr);
@@ -64,11 +96,9 @@ void RenderScene::buildAccel() {
 }
 
 void RenderScene::buildLights() {
-    triangleLight_.resize(data_.meshes.size());
     for (size_t m = 0; m < data_.meshes.size(); ++m) {
         const TriangleMesh& mesh = data_.meshes[m];
-        triangleLight_[m].assign(mesh.triangleCount(), -1);
-        const Material& mat = mesh.material >= 0 ? data_.materials[mesh.material] : defaultMaterial_;
+        const Material& mat = *meshes_[m].material;
         if (!mat.isEmissive()) continue;
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
             AreaLight light;
@@ -84,7 +114,8 @@ void RenderScene::buildLights() {
             light.mesh = uint32_t(m);
             light.triangle = uint32_t(t);
             light.emission = mat.emissionScale();
-            triangleLight_[m][t] = int(lights_.size());
+            light.texturedEmission = mat.emissiveTexture.valid();
+            triangles_[meshes_[m].firstTriangle + t].areaLight = int32_t(lights_.size());
             lights_.push_back(light);
         }
     }
@@ -117,7 +148,7 @@ void RenderScene::buildLights() {
     lightSelection_ = Distribution1D(power);
 }
 
-std::optional<SurfaceHit> RenderScene::intersect(const Ray& ray) const {
+bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
@@ -134,8 +165,15 @@ std::optional<SurfaceHit> RenderScene::intersect(const Ray& ray) const {
     rh.ray.time = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-    return makeHit(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, ray);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    fillHit(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    return true;
+}
+
+std::optional<SurfaceHit> RenderScene::intersect(const Ray& ray) const {
+    SurfaceHit hit;
+    if (!intersect(ray, hit)) return std::nullopt;
+    return hit;
 }
 
 void RenderScene::intersectRaw(const Ray* rays, size_t count, float* tHit) const {
@@ -179,79 +217,82 @@ bool RenderScene::occluded(const Ray& ray) const {
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-SurfaceHit RenderScene::makeHit(uint32_t meshIndex, uint32_t tri, float u, float v, float t, const Ray&) const {
+void RenderScene::fillHit(uint32_t meshIndex, uint32_t tri, float u, float v, float t, SurfaceHit& hit) const {
     const TriangleMesh& mesh = data_.meshes[meshIndex];
     uint32_t i0 = mesh.indices[3 * tri], i1 = mesh.indices[3 * tri + 1], i2 = mesh.indices[3 * tri + 2];
     float w = 1 - u - v;
-    SurfaceHit hit;
     hit.t = t;
     hit.mesh = meshIndex;
     hit.triangle = tri;
     hit.barycentric = {u, v};
-    const Vec3f &p0 = mesh.positions[i0], &p1 = mesh.positions[i1], &p2 = mesh.positions[i2];
     // The barycentric point is more accurate than o + t d, which matters for ray offsets.
-    hit.p = p0 * w + p1 * u + p2 * v;
-    hit.ng = normalize(cross(p1 - p0, p2 - p0));
+    hit.p = mesh.positions[i0] * w + mesh.positions[i1] * u + mesh.positions[i2] * v;
+    hit.ng = triangles_[meshes_[meshIndex].firstTriangle + tri].ng;
     Vec3f ns = mesh.normals[i0] * w + mesh.normals[i1] * u + mesh.normals[i2] * v;
     float nsLen = length(ns);
     hit.ns = (nsLen > 0 && std::isfinite(nsLen)) ? faceForward(ns / nsLen, hit.ng) : hit.ng;
-    for (int set = 0; set < 2; ++set) {
-        const auto& uvs = mesh.uvs[set];
-        if (uvs.empty()) continue;
-        hit.uv[set] = uvs[i0] * w + uvs[i1] * u + uvs[i2] * v;
-        hit.hasUv[set] = true;
-    }
-    return hit;
 }
 
-const Material& RenderScene::materialOf(const SurfaceHit& hit) const {
-    int m = data_.meshes[hit.mesh].material;
-    return m >= 0 ? data_.materials[m] : defaultMaterial_;
+RenderScene::TextureCoordinates RenderScene::interpolateUv(uint32_t m, uint32_t tri, Vec3f w) const {
+    const TriangleMesh& mesh = data_.meshes[m];
+    const uint32_t* idx = &mesh.indices[3 * size_t(tri)];
+    TextureCoordinates tc;
+    for (int set = 0; set < 2; ++set) {
+        const auto& uvs = mesh.uvs[size_t(set)];
+        if (uvs.empty()) continue;
+        tc.uv[size_t(set)] = uvs[idx[0]] * w.x + uvs[idx[1]] * w.y + uvs[idx[2]] * w.z;
+        tc.has[set] = true;
+    }
+    return tc;
+}
+
+RenderScene::TextureCoordinates RenderScene::textureCoordinates(const SurfaceHit& hit) const {
+    float u = hit.barycentric.x, v = hit.barycentric.y;
+    return interpolateUv(hit.mesh, hit.triangle, {1 - u - v, u, v});
 }
 
 Bsdf RenderScene::bsdfAt(const SurfaceHit& hit) const {
+    const MeshInfo& info = meshes_[hit.mesh];
+    // makeBsdf's frame and normals, with the lobe it would build (see prepareMeshes).
+    if (info.constantBsdf) return Bsdf(Frame::fromNormal(hit.ns), hit.ng, info.lobe);
+    TextureCoordinates tc = textureCoordinates(hit);
     SurfacePoint sp;
     sp.ng = hit.ng;
     sp.ns = hit.ns;
-    sp.uv = hit.uv;
-    sp.hasUv[0] = hit.hasUv[0];
-    sp.hasUv[1] = hit.hasUv[1];
-    return makeBsdf(materialOf(hit), data_.textures, sp);
+    sp.uv = tc.uv;
+    sp.hasUv[0] = tc.has[0];
+    sp.hasUv[1] = tc.has[1];
+    return makeBsdf(*info.material, data_.textures, sp);
 }
-
-int RenderScene::areaLightIndex(const SurfaceHit& hit) const { return triangleLight_[hit.mesh][hit.triangle]; }
 
 Rgb RenderScene::emittedRadiance(const SurfaceHit& hit, Vec3f w) const {
     int li = areaLightIndex(hit);
     if (li < 0) return Rgb(0.0f);
-    const auto& light = std::get<AreaLight>(lights_[li]);
+    const auto& light = std::get<AreaLight>(lights_[size_t(li)]);
     if (!areaLightEmitsTowards(light, w)) return Rgb(0.0f);
-    return evalEmission(materialOf(hit), data_.textures, hit.uv);
+    if (!light.texturedEmission) return light.emission;
+    return evalEmission(materialOf(hit), data_.textures, textureCoordinates(hit).uv);
 }
 
 std::optional<LightSample> RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u) const {
-    const Light& light = lights_[lightIndex];
+    const Light& light = lights_[size_t(lightIndex)];
     const auto* area = std::get_if<AreaLight>(&light);
     if (!area) return samplePunctualLight(light, ref);
     Vec3f bary;
     auto s = sampleAreaLight(*area, ref, u, bary);
     if (!s) return std::nullopt;
-    const TriangleMesh& mesh = data_.meshes[area->mesh];
-    std::array<Vec2f, 2> uv{};
-    for (int set = 0; set < 2; ++set) {
-        const auto& uvs = mesh.uvs[set];
-        if (uvs.empty()) continue;
-        const uint32_t* idx = &mesh.indices[3 * area->triangle];
-        uv[set] = uvs[idx[0]] * bary.x + uvs[idx[1]] * bary.y + uvs[idx[2]] * bary.z;
+    if (area->texturedEmission) {
+        const Material& m = *meshes_[area->mesh].material;
+        s->radiance = evalEmission(m, data_.textures, interpolateUv(area->mesh, area->triangle, bary).uv);
+    } else {
+        s->radiance = area->emission;
     }
-    int mat = mesh.material;
-    s->radiance = evalEmission(mat >= 0 ? data_.materials[mat] : defaultMaterial_, data_.textures, uv);
     if (isBlack(s->radiance)) return std::nullopt;
     return s;
 }
 
 float RenderScene::areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const {
-    return partita::areaLightPdf(std::get<AreaLight>(lights_[lightIndex]), ref, hit.p);
+    return partita::areaLightPdf(std::get<AreaLight>(lights_[size_t(lightIndex)]), ref, hit.p);
 }
 
 }  // namespace partita

@@ -1,7 +1,13 @@
 // The scene as integrators see it: SceneData plus an Embree BVH, BSDF construction at hit
 // points, and the light list with its power-proportional selection distribution.
+//
+// Hit shading is on the path tracer's hot path, so what does not change per hit is prepared
+// once here: each triangle's unit geometric normal and area-light index, and each mesh's BSDF
+// lobe when its material has no texture that the BSDF reads (then a hit only builds the shading
+// frame). Texture coordinates are interpolated only for textured materials.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -28,20 +34,28 @@ public:
 
     /// Closest hit along the ray, within (0, ray.tMax).
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
+    /// The same query writing into `hit` (left unspecified on a miss, when it returns false).
+    bool intersect(const Ray& ray, SurfaceHit& hit) const;
     /// Whether anything blocks the ray within (0, ray.tMax).
     bool occluded(const Ray& ray) const;
     /// Bare Embree closest-hit queries (rtcIntersect1, no hit shading), writing the hit distance
     /// or infinity. Only for measuring the ray-tracing kernel against the integrators.
     void intersectRaw(const Ray* rays, size_t count, float* tHit) const;
 
-    const Material& materialOf(const SurfaceHit& hit) const;
+    const Material& materialOf(const SurfaceHit& hit) const { return *meshes_[hit.mesh].material; }
     Bsdf bsdfAt(const SurfaceHit& hit) const;
+    /// TEXCOORD_0 and TEXCOORD_1 at the hit; (0, 0) and `has` false for a set the mesh lacks.
+    struct TextureCoordinates {
+        std::array<Vec2f, 2> uv{};
+        bool has[2] = {false, false};
+    };
+    TextureCoordinates textureCoordinates(const SurfaceHit& hit) const;
     /// Radiance emitted from the hit point towards direction w (zero unless it is an area light).
     Rgb emittedRadiance(const SurfaceHit& hit, Vec3f w) const;
 
     const std::vector<Light>& lights() const { return lights_; }
     /// Index of the area light of the hit triangle, or -1.
-    int areaLightIndex(const SurfaceHit& hit) const;
+    int areaLightIndex(const SurfaceHit& hit) const { return triangleOf(hit).areaLight; }
     /// Probability of choosing light i in lightSelection().
     float lightSelectionPmf(int i) const { return lightSelection_.pmf(uint32_t(i)); }
     const Distribution1D& lightSelection() const { return lightSelection_; }
@@ -54,15 +68,35 @@ public:
     float areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const;
 
 private:
+    /// Per mesh, prepared once.
+    struct MeshInfo {
+        const Material* material = nullptr;
+        uint32_t firstTriangle = 0;  // of the mesh's triangles in triangles_
+        bool constantBsdf = false;   // no texture feeds the BSDF: `lobe` holds on the whole mesh
+        BsdfLobe lobe;
+    };
+    /// Per triangle, prepared once.
+    struct TriangleInfo {
+        Vec3f ng;               // unit normal from the winding (zero for degenerate triangles)
+        int32_t areaLight = -1; // index into lights_, or -1
+    };
+
+    void prepareMeshes();
     void buildAccel();
     void buildLights();
-    SurfaceHit makeHit(uint32_t mesh, uint32_t tri, float u, float v, float t, const Ray& ray) const;
+    void fillHit(uint32_t mesh, uint32_t tri, float u, float v, float t, SurfaceHit& hit) const;
+    const TriangleInfo& triangleOf(const SurfaceHit& hit) const {
+        return triangles_[meshes_[hit.mesh].firstTriangle + hit.triangle];
+    }
+    /// TEXCOORD_0/1 of mesh `m` at barycentric weights w (of the triangle's vertices 0, 1, 2).
+    TextureCoordinates interpolateUv(uint32_t m, uint32_t tri, Vec3f w) const;
 
     SceneData data_;
     Material defaultMaterial_;
     Bounds3f bounds_;
+    std::vector<MeshInfo> meshes_;
+    std::vector<TriangleInfo> triangles_;  // all meshes' triangles, mesh by mesh
     std::vector<Light> lights_;
-    std::vector<std::vector<int>> triangleLight_;  // per mesh, per triangle: light index or -1
     Distribution1D lightSelection_;
     struct Embree;
     std::unique_ptr<Embree> embree_;

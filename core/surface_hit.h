@@ -1,7 +1,8 @@
-// What a ray hit: the surface point with its normals and texture coordinates.
+// What a ray hit: the surface point with its normals. Texture coordinates are not part of it:
+// only textured materials need them, so RenderScene::textureCoordinates interpolates them on
+// demand from the triangle and barycentrics recorded here.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "math/vec.h"
@@ -13,8 +14,6 @@ struct SurfaceHit {
     Vec3f p;
     Vec3f ng;  // unit geometric normal from the triangle's winding (world space)
     Vec3f ns;  // unit interpolated shading normal, flipped to ng's side
-    std::array<Vec2f, 2> uv{};
-    std::array<bool, 2> hasUv{false, false};
     uint32_t mesh = 0, triangle = 0;
     Vec2f barycentric;  // Embree's (u, v): p = (1-u-v) p0 + u p1 + v p2
 };

@@ -12,8 +12,8 @@ int selectCamera(const SceneData& scene, const std::string& name) {
         if (scene.cameras[i].name == name) return int(i);
     std::string available;
     for (const CameraDesc& cam : scene.cameras)
-        available += (available.empty() ? "" : ", ") + ("'" + cam.name + "'");
-    throw SceneLoadError("unknown camera '" + name + "'; available: " +
+        available += (available.empty() ? "" : ", ") + ("'" + printableUri(cam.name) + "'");
+    throw SceneLoadError("unknown camera '" + printableUri(name) + "'; available: " +
                          (available.empty() ? "none (the scene has no cameras)" : available));
 }
 

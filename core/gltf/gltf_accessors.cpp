@@ -102,16 +102,18 @@ ByteSpan viewBytes(const LoadContext& ctx, int index, const std::string& what) {
 }
 
 /// Fails unless `count` elements of `elementBytes`, `stride` apart, starting at `offset`, lie in
-/// a span of `size` bytes. 64-bit math: count <= limits and stride <= 252 cannot overflow.
+/// a span of `size` bytes. In 64-bit math with stride <= 2^16 and count <= 2^40 (far above the
+/// limits: strides are at most 252) the product cannot overflow.
 void checkRange(uint64_t offset, uint64_t stride, uint64_t count, uint64_t elementBytes,
                 uint64_t size, const std::string& what) {
     if (count == 0) return;
-    bool fits = offset <= size && stride <= (uint64_t(1) << 32) && count <= (uint64_t(1) << 40) &&
+    bool fits = offset <= size && stride <= (uint64_t(1) << 16) && count <= (uint64_t(1) << 40) &&
                 stride * (count - 1) + elementBytes <= size - offset;
     if (!fits)
-        failf("{}: {} elements at offset {} with stride {} reach past the end of their {}-byte "
-              "bufferView",
-              what, count, offset, stride, size);
+        failf(
+            "{}: {} elements at offset {} with stride {} reach past the end of their {}-byte "
+            "bufferView",
+            what, count, offset, stride, size);
 }
 
 template <typename T>
@@ -143,8 +145,8 @@ void applySparse(const LoadContext& ctx, const tinygltf::Accessor& acc, const El
     checkRange(valueOffset, f.bytes(), count, f.bytes(), valueView.size, what + " sparse values");
 
     for (uint64_t j = 0; j < count; ++j) {
-        double target = decodeComponent(indexView.data + indexOffset + j * indexFormat.bytes(),
-                                        indexFormat);
+        double target =
+            decodeComponent(indexView.data + indexOffset + j * indexFormat.bytes(), indexFormat);
         if (target >= double(acc.count))
             failf("{}: sparse index {} is out of range of the accessor's {} elements", what,
                   uint64_t(target), acc.count);
@@ -161,9 +163,18 @@ uint64_t maxZeroBaseCount(const tinygltf::Accessor& acc) {
     return std::max<uint64_t>(uint64_t(1) << 20, 64 * sparse);
 }
 
+void chargeDecodeBudget(LoadContext& ctx, uint64_t count, const std::string& where) {
+    uint64_t budget =
+        16 * std::min<uint64_t>(ctx.limits.maxTriangles, uint64_t(1) << 40) + (uint64_t(1) << 20);
+    if (count > budget - std::min(budget, ctx.elementsDecoded))
+        failf("{}: the file's accessors hold more than {} elements in all (the limit)", where,
+              budget);
+    ctx.elementsDecoded += count;
+}
+
 /// Decodes accessor `index` (checked to be of `type`) to `T` values, sparse applied.
 template <typename T>
-std::vector<T> readAccessor(const LoadContext& ctx, int index, int type, uint64_t maxCount,
+std::vector<T> readAccessor(LoadContext& ctx, int index, int type, uint64_t maxCount,
                             const std::string& what) {
     const tinygltf::Accessor& acc = checkedAt(ctx.model.accessors, index, "accessor");
     std::string where = what + " (accessor " + std::to_string(index) + ")";
@@ -183,7 +194,8 @@ std::vector<T> readAccessor(const LoadContext& ctx, int index, int type, uint64_
     // Everything is checked before the output is allocated.
     ByteSpan view;
     uint64_t stride = f.bytes();
-    if (acc.bufferView != -1) {
+    bool hasView = acc.bufferView != -1;
+    if (hasView) {
         view = viewBytes(ctx, acc.bufferView, where);
         uint64_t viewStride = ctx.model.bufferViews[size_t(acc.bufferView)].byteStride;
         if (viewStride) stride = viewStride;
@@ -191,8 +203,9 @@ std::vector<T> readAccessor(const LoadContext& ctx, int index, int type, uint64_
     } else if (acc.count > maxZeroBaseCount(acc)) {
         failf("{}: count {} without a bufferView is implausibly large", where, acc.count);
     }
+    chargeDecodeBudget(ctx, acc.count, where);
     std::vector<T> values(acc.count * size_t(f.components), T(0));
-    if (view.data)
+    if (hasView)
         for (uint64_t i = 0; i < acc.count; ++i)
             decodeElement(view.data + acc.byteOffset + i * stride, f,
                           &values[i * uint64_t(f.components)]);
@@ -205,28 +218,36 @@ std::vector<T> readAccessor(const LoadContext& ctx, int index, int type, uint64_
 
 int componentsOf(int type) {
     switch (type) {
-        case TINYGLTF_TYPE_SCALAR: return 1;
-        case TINYGLTF_TYPE_VEC2: return 2;
-        case TINYGLTF_TYPE_VEC3: return 3;
-        case TINYGLTF_TYPE_VEC4: return 4;
-        case TINYGLTF_TYPE_MAT2: return 4;
-        case TINYGLTF_TYPE_MAT3: return 9;
-        case TINYGLTF_TYPE_MAT4: return 16;
-        default: return 0;
+        case TINYGLTF_TYPE_SCALAR:
+            return 1;
+        case TINYGLTF_TYPE_VEC2:
+            return 2;
+        case TINYGLTF_TYPE_VEC3:
+            return 3;
+        case TINYGLTF_TYPE_VEC4:
+            return 4;
+        case TINYGLTF_TYPE_MAT2:
+            return 4;
+        case TINYGLTF_TYPE_MAT3:
+            return 9;
+        case TINYGLTF_TYPE_MAT4:
+            return 16;
+        default:
+            return 0;
     }
 }
 
-std::vector<float> readFloatAccessor(const LoadContext& ctx, int accessor, int type,
-                                     uint64_t maxCount, const std::string& what) {
+std::vector<float> readFloatAccessor(LoadContext& ctx, int accessor, int type, uint64_t maxCount,
+                                     const std::string& what) {
     return readAccessor<float>(ctx, accessor, type, maxCount, what);
 }
 
-std::vector<uint32_t> readIndexAccessor(const LoadContext& ctx, int accessor, uint64_t maxCount,
+std::vector<uint32_t> readIndexAccessor(LoadContext& ctx, int accessor, uint64_t maxCount,
                                         const std::string& what) {
     const tinygltf::Accessor& acc = checkedAt(ctx.model.accessors, accessor, "accessor");
     int ct = acc.componentType;
-    if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-        ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
         failf("{} (accessor {}): index componentType {} is not an unsigned byte, short or int",
               what, accessor, ct);
     if (acc.normalized) failf("{} (accessor {}): indices must not be normalized", what, accessor);

@@ -8,7 +8,9 @@ namespace partita::gltf {
 
 namespace {
 
-Vec3f column(const Mat4& m, int c) { return {m.m[c][0], m.m[c][1], m.m[c][2]}; }
+Vec3f column(const Mat4& m, int c) {
+    return {m.m[c][0], m.m[c][1], m.m[c][2]};
+}
 
 void setColumn(Mat4& m, int c, Vec3f v) {
     m.m[c][0] = v.x;
@@ -67,13 +69,14 @@ std::optional<Mat4> orthonormalized(const Mat4& m) {
     return r;
 }
 
-std::optional<CameraDesc> convertCamera(LoadContext& ctx, const tinygltf::Node& node,
-                                        int nodeIndex, const Mat4& toWorld) {
+std::optional<CameraDesc> convertCamera(LoadContext& ctx, const tinygltf::Node& node, int nodeIndex,
+                                        const Mat4& toWorld) {
     int index = node.camera;
     const tinygltf::Camera& src = checkedAt(ctx.model.cameras, index, "camera");
     CameraDesc cam;
-    cam.name = !src.name.empty() ? src.name : !node.name.empty() ? node.name
-                                                                 : "camera" + std::to_string(index);
+    cam.name = !src.name.empty()    ? src.name
+               : !node.name.empty() ? node.name
+                                    : "camera" + std::to_string(index);
     if (src.type == "perspective")
         fillPerspective(ctx, src.perspective, index, cam);
     else if (src.type == "orthographic")

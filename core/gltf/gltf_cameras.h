@@ -15,8 +15,8 @@ struct LoadContext;
 /// The camera of `node` (index `nodeIndex`), or nullopt (with a warning) when its transform is
 /// degenerate. glTF forbids scale on camera nodes; any scale or shear is removed by
 /// orthonormalising the rotation (keeping the viewing direction exact).
-std::optional<CameraDesc> convertCamera(LoadContext& ctx, const tinygltf::Node& node,
-                                        int nodeIndex, const Mat4& toWorld);
+std::optional<CameraDesc> convertCamera(LoadContext& ctx, const tinygltf::Node& node, int nodeIndex,
+                                        const Mat4& toWorld);
 
 /// The rigid part of `m`: its -Z (view) axis kept, +Y made orthogonal to it, X = Y x Z.
 /// nullopt when `m` has no usable rotation.

@@ -21,6 +21,8 @@ struct LoadContext {
     const GltfLoadLimits& limits;
     SceneData& scene;
     uint64_t trianglesEmitted = 0;
+    uint64_t elementsDecoded = 0;  // accessor elements read so far (see gltf_accessors)
+    uint64_t texturePixels = 0;    // pixels of all SceneData::textures so far
 
     /// Logs through spdlog and records the message in SceneData::warnings.
     void warn(const std::string& message);

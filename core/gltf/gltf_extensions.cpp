@@ -13,7 +13,7 @@ namespace {
 // and `normalized` flag. KHR_materials_volume's thickness is not needed by a ray tracer that sees
 // the real geometry.
 constexpr std::array<std::string_view, 7> kSupported = {
-    "KHR_materials_transmission", "KHR_materials_ior",   "KHR_materials_volume",
+    "KHR_materials_transmission",      "KHR_materials_ior",     "KHR_materials_volume",
     "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_lights_punctual",
     "KHR_mesh_quantization",
 };

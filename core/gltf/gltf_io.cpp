@@ -45,10 +45,14 @@ std::string TinyGltfIo::errorFor(const std::string& uri) const {
 // tinygltf asks FileExists(base_dir + uri) first; we load with an empty base_dir, so the path it
 // asks about is the (percent-decoded) uri itself. Saying "yes" lets ReadWholeFile report the
 // resolver's reason instead of tinygltf's generic "File not found".
-bool TinyGltfIo::fileExists(const std::string&, void*) { return true; }
+bool TinyGltfIo::fileExists(const std::string&, void*) {
+    return true;
+}
 
 // The default expands `~` and environment variables (wordexp): never wanted for untrusted uris.
-std::string TinyGltfIo::expandFilePath(const std::string& path, void*) { return path; }
+std::string TinyGltfIo::expandFilePath(const std::string& path, void*) {
+    return path;
+}
 
 bool TinyGltfIo::readWholeFile(std::vector<unsigned char>* out, std::string* err,
                                const std::string& path, void* self) {
@@ -77,8 +81,8 @@ bool TinyGltfIo::writeWholeFile(std::string* err, const std::string&,
     return false;
 }
 
-bool TinyGltfIo::keepEncodedImage(tinygltf::Image* image, int, std::string*, std::string*, int,
-                                  int, const unsigned char* bytes, int size, void*) {
+bool TinyGltfIo::keepEncodedImage(tinygltf::Image* image, int, std::string*, std::string*, int, int,
+                                  const unsigned char* bytes, int size, void*) {
     // For an image stored in a bufferView, tinygltf passes a pointer it computed without checking
     // the view against its buffer: do not touch it; gltf_textures reads the view bounds-checked.
     if (image->bufferView >= 0) return true;

@@ -15,7 +15,7 @@
 namespace partita::gltf {
 
 class TinyGltfIo {
-public:
+  public:
     TinyGltfIo(const ResourceResolver& resolver, uint64_t maxFileBytes)
         : resolver_(resolver), maxFileBytes_(maxFileBytes) {}
     TinyGltfIo(const TinyGltfIo&) = delete;
@@ -29,7 +29,7 @@ public:
     /// The first read error met, for a clear message when tinygltf gives up on a buffer.
     const std::string& firstError() const { return firstError_; }
 
-private:
+  private:
     static bool fileExists(const std::string& path, void* self);
     static std::string expandFilePath(const std::string& path, void* self);
     static bool readWholeFile(std::vector<unsigned char>* out, std::string* err,

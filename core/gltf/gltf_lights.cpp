@@ -10,10 +10,14 @@ namespace partita::gltf {
 namespace {
 
 bool lightType(const std::string& type, PunctualLightDesc::Type& out) {
-    if (type == "point") out = PunctualLightDesc::Type::Point;
-    else if (type == "spot") out = PunctualLightDesc::Type::Spot;
-    else if (type == "directional") out = PunctualLightDesc::Type::Directional;
-    else return false;
+    if (type == "point")
+        out = PunctualLightDesc::Type::Point;
+    else if (type == "spot")
+        out = PunctualLightDesc::Type::Spot;
+    else if (type == "directional")
+        out = PunctualLightDesc::Type::Directional;
+    else
+        return false;
     return true;
 }
 
@@ -26,9 +30,10 @@ void fillSpotCone(LoadContext& ctx, const tinygltf::SpotLight& spot, int lightIn
     float inner = clampedFloat(i, 0.f, outer, 0.f);
     if (inner >= outer) inner = 0.f;
     if (!valid)
-        ctx.warn(fmt::format("light {}: spot cone angles (inner {}, outer {}) are invalid; using "
-                             "({}, {})",
-                             lightIndex, i, o, inner, outer));
+        ctx.warn(
+            fmt::format("light {}: spot cone angles (inner {}, outer {}) are invalid; using "
+                        "({}, {})",
+                        lightIndex, i, o, inner, outer));
     light.innerConeAngle = inner;
     light.outerConeAngle = outer;
 }
@@ -66,7 +71,8 @@ std::optional<PunctualLightDesc> convertNodeLight(LoadContext& ctx, const tinygl
     }
     light.name = !src.name.empty() ? src.name : "light" + std::to_string(*lightIndex);
     fillColorAndIntensity(ctx, src, *lightIndex, light);
-    if (light.type == PunctualLightDesc::Type::Spot) fillSpotCone(ctx, src.spot, *lightIndex, light);
+    if (light.type == PunctualLightDesc::Type::Spot)
+        fillSpotCone(ctx, src.spot, *lightIndex, light);
 
     light.position = toWorld.transformPoint(Vec3f(0, 0, 0));
     Vec3f direction = toWorld.transformVector(Vec3f(0, 0, -1));

@@ -31,18 +31,20 @@ using namespace gltf;
 // stack in tinygltf's recursive conversion.
 constexpr int kMaxJsonDepth = 128;
 
-/// tinygltf's multi-line messages as one line.
+/// tinygltf's multi-line messages as one printable line of bounded length.
 std::string oneLine(const std::string& text) {
+    constexpr size_t kMaxLength = 300;
     std::string out;
     for (char c : text) {
+        if (out.size() >= kMaxLength) return out + "...";
         if (c == '\n' || c == '\r') {
             if (!out.empty() && out.back() != ' ') out += "; ";
         } else {
-            out += c;
+            out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
         }
     }
     while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
-    return printableUri(out.size() > 400 ? out.substr(0, 400) + "..." : out);
+    return out;
 }
 
 bool looksLikeGlb(const std::vector<uint8_t>& bytes) {
@@ -70,10 +72,10 @@ tinygltf::Model parseModel(const std::vector<uint8_t>& bytes, bool isBinary, Tin
     tinygltf::Model model;
     std::string err;
     // An empty base_dir: tinygltf then asks our callbacks for the (decoded) uri itself.
-    bool ok = isBinary ? loader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(),
-                                                     glbLength, "")
-                       : loader.LoadASCIIFromString(&model, &err, &warnings, json.data(),
-                                                    unsigned(json.size()), "");
+    bool ok =
+        isBinary ? loader.LoadBinaryFromMemory(&model, &err, &warnings, bytes.data(), glbLength, "")
+                 : loader.LoadASCIIFromString(&model, &err, &warnings, json.data(),
+                                              unsigned(json.size()), "");
     if (!ok) {
         if (!io.firstError().empty() && err.find(io.firstError()) != std::string::npos)
             fail("cannot read a buffer: " + io.firstError());
@@ -101,7 +103,7 @@ bool isUsableTransform(const Mat4& m) {
 
 /// Decodes each mesh once, however many nodes instance it.
 class MeshCache {
-public:
+  public:
     explicit MeshCache(LoadContext& ctx) : ctx_(ctx), meshes_(ctx.model.meshes.size()) {}
     const std::vector<PrimitiveGeometry>& get(int mesh) {
         checkedAt(ctx_.model.meshes, mesh, "mesh");
@@ -110,7 +112,7 @@ public:
         return *slot;
     }
 
-private:
+  private:
     LoadContext& ctx_;
     std::vector<std::optional<std::vector<PrimitiveGeometry>>> meshes_;
 };
@@ -119,8 +121,8 @@ void addMeshInstance(LoadContext& ctx, MeshCache& meshes, const tinygltf::Node& 
                      const Mat4& toWorld) {
     const std::vector<PrimitiveGeometry>& primitives = meshes.get(node.mesh);
     if (!isUsableTransform(toWorld)) {
-        ctx.warn(fmt::format("node {}: transform has zero scale or is degenerate; skipping its mesh",
-                             index));
+        ctx.warn(fmt::format(
+            "node {}: transform has zero scale or is degenerate; skipping its mesh", index));
         return;
     }
     for (const PrimitiveGeometry& geometry : primitives) {
@@ -190,15 +192,16 @@ SceneData loadUnguarded(const std::vector<uint8_t>& bytes, bool isBinary,
 std::vector<uint8_t> readMainFile(const std::filesystem::path& file, uint64_t maxBytes) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec))
-        failf("cannot open '{}': not a regular file", file.string());
+        failf("cannot open '{}': not a regular file", printableUri(file.string()));
     uint64_t size = std::filesystem::file_size(file, ec);
-    if (ec) failf("cannot open '{}': {}", file.string(), ec.message());
+    if (ec) failf("cannot open '{}': {}", printableUri(file.string()), ec.message());
     if (size > maxBytes)
-        failf("'{}' is {} bytes, more than the limit of {}", file.string(), size, maxBytes);
+        failf("'{}' is {} bytes, more than the limit of {}", printableUri(file.string()), size,
+              maxBytes);
     std::vector<uint8_t> bytes(size);
     std::ifstream in(file, std::ios::binary);
     if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
-        failf("cannot read '{}'", file.string());
+        failf("cannot read '{}'", printableUri(file.string()));
     return bytes;
 }
 

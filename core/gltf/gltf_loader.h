@@ -19,17 +19,20 @@ struct SceneLoadError : std::runtime_error {
 };
 
 struct GltfLoadLimits {
-    uint64_t maxFileBytes = uint64_t(1) << 30;      // the .gltf/.glb itself and each resource
+    uint64_t maxFileBytes = uint64_t(1) << 30;  // the .gltf/.glb itself and each resource
     uint64_t maxTriangles = 50'000'000;
     uint64_t maxTexturePixels = uint64_t(1) << 26;  // per texture (8192 x 8192)
     int maxNodeDepth = 256;                         // guards against deep or cyclic hierarchies
+    // All textures together (each Texture counts; 16 bytes of float RGBA per pixel): many small,
+    // highly compressible PNGs must not add up to an unbounded amount of memory.
+    uint64_t maxTotalTexturePixels = uint64_t(1) << 28;
 };
 
 /// Load a .gltf or .glb file. Resources are read only from the file's own folder.
 SceneData loadGltfFile(const std::filesystem::path& file, const GltfLoadLimits& limits = {});
 
 /// Load from bytes (`isBinary` = GLB), reading external resources through `resolver` only.
-SceneData loadGltfMemory(const std::vector<uint8_t>& bytes, bool isBinary, const ResourceResolver& resolver,
-                         const GltfLoadLimits& limits = {});
+SceneData loadGltfMemory(const std::vector<uint8_t>& bytes, bool isBinary,
+                         const ResourceResolver& resolver, const GltfLoadLimits& limits = {});
 
 }  // namespace partita

@@ -63,8 +63,8 @@ TextureRef textureRef(LoadContext& ctx, TextureCache& textures, const TextureSlo
     ref.texCoord = slot.texCoord;
     if (slot.transform) applyTextureTransform(*slot.transform, ref);
     if (ref.texCoord != 0 && ref.texCoord != 1) {
-        ctx.warn(fmt::format("{}: TEXCOORD_{} is not supported; using TEXCOORD_0", what,
-                             ref.texCoord));
+        ctx.warn(
+            fmt::format("{}: TEXCOORD_{} is not supported; using TEXCOORD_0", what, ref.texCoord));
         ref.texCoord = 0;
     }
     return ref;
@@ -96,9 +96,8 @@ void convertPbr(LoadContext& ctx, TextureCache& textures, const tinygltf::Materi
     m.roughness = factor(ctx, pbr.roughnessFactor, 0, 1, 1, what + " roughnessFactor");
     m.baseColorTexture = textureRef(ctx, textures, slotFrom(pbr.baseColorTexture), ColorSpace::Srgb,
                                     what + " baseColorTexture");
-    m.metallicRoughnessTexture =
-        textureRef(ctx, textures, slotFrom(pbr.metallicRoughnessTexture), ColorSpace::Linear,
-                   what + " metallicRoughnessTexture");
+    m.metallicRoughnessTexture = textureRef(ctx, textures, slotFrom(pbr.metallicRoughnessTexture),
+                                            ColorSpace::Linear, what + " metallicRoughnessTexture");
 }
 
 void convertEmission(LoadContext& ctx, TextureCache& textures, const tinygltf::Material& src,
@@ -106,7 +105,8 @@ void convertEmission(LoadContext& ctx, TextureCache& textures, const tinygltf::M
     m.emissiveFactor = colorFactor(ctx, src.emissiveFactor, Rgb(0.f), what + " emissiveFactor");
     m.emissiveTexture = textureRef(ctx, textures, slotFrom(src.emissiveTexture), ColorSpace::Srgb,
                                    what + " emissiveTexture");
-    if (const tinygltf::Value* ext = findExtension(src.extensions, "KHR_materials_emissive_strength"))
+    if (const tinygltf::Value* ext =
+            findExtension(src.extensions, "KHR_materials_emissive_strength"))
         if (std::optional<double> s = numberMember(*ext, "emissiveStrength"))
             m.emissiveStrength = factor(ctx, *s, 0, FLT_MAX, 1, what + " emissiveStrength");
 }
@@ -150,7 +150,8 @@ void convertVolume(LoadContext& ctx, const tinygltf::Material& src, const std::s
         if (*d > 0)
             m.attenuationDistance = toFloat(*d);
         else
-            ctx.warn(fmt::format("{}: attenuationDistance {} is not positive; ignoring it", what, *d));
+            ctx.warn(
+                fmt::format("{}: attenuationDistance {} is not positive; ignoring it", what, *d));
     }
 }
 

@@ -1,7 +1,9 @@
 #include "gltf/gltf_meshes.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <optional>
 
@@ -21,7 +23,9 @@ std::optional<Vec3f> unitVector(Vec3f v) {
     return normalize(v / m);
 }
 
-std::optional<Vec3f> faceNormal(Vec3f a, Vec3f b, Vec3f c) { return unitVector(cross(b - a, c - a)); }
+std::optional<Vec3f> faceNormal(Vec3f a, Vec3f b, Vec3f c) {
+    return unitVector(cross(b - a, c - a));
+}
 
 /// Accessor element counts are limited by the triangle budget before anything is allocated.
 uint64_t maxElements(const LoadContext& ctx) {
@@ -49,8 +53,8 @@ std::vector<float> readVertexAttribute(LoadContext& ctx, const tinygltf::Primiti
                                        const char* name, int type, size_t vertexCount,
                                        const std::string& where) {
     if (!hasAttribute(prim, name)) return {};
-    std::vector<float> values =
-        readFloatAccessor(ctx, prim.attributes.at(name), type, maxElements(ctx), where + " " + name);
+    std::vector<float> values = readFloatAccessor(ctx, prim.attributes.at(name), type,
+                                                  maxElements(ctx), where + " " + name);
     if (values.size() / size_t(componentsOf(type)) != vertexCount)
         failf("{}: {} has {} elements but POSITION has {}", where, name,
               values.size() / size_t(componentsOf(type)), vertexCount);
@@ -82,6 +86,32 @@ int primitiveMaterial(const LoadContext& ctx, const tinygltf::Primitive& prim,
     return prim.material;
 }
 
+template <typename T>
+void keepReferenced(std::vector<T>& values, const std::vector<uint32_t>& newIndex) {
+    if (values.empty()) return;
+    std::vector<T> kept;
+    for (size_t i = 0; i < values.size(); ++i)
+        if (newIndex[i] != UINT32_MAX) kept.push_back(values[i]);
+    values = std::move(kept);
+}
+
+/// Removes vertices no triangle uses, so that every instance's size is bounded by its triangle
+/// count (which the triangle limit bounds), however large the file's vertex arrays are.
+void dropUnreferencedVertices(PrimitiveGeometry& g) {
+    std::vector<bool> used(g.positions.size());
+    for (uint32_t v : g.indices) used[v] = true;
+    std::vector<uint32_t> newIndex(g.positions.size(), UINT32_MAX);
+    uint32_t next = 0;
+    for (size_t i = 0; i < used.size(); ++i)
+        if (used[i]) newIndex[i] = next++;
+    if (next == g.positions.size()) return;  // all used: the common case
+    for (uint32_t& v : g.indices) v = newIndex[v];
+    keepReferenced(g.positions, newIndex);
+    keepReferenced(g.normals, newIndex);
+    keepReferenced(g.uvs[0], newIndex);
+    keepReferenced(g.uvs[1], newIndex);
+}
+
 /// Decodes one primitive; returns false (after a warning) when it is skipped.
 bool decodePrimitive(LoadContext& ctx, const tinygltf::Primitive& prim, const std::string& where,
                      PrimitiveGeometry& out) {
@@ -97,8 +127,9 @@ bool decodePrimitive(LoadContext& ctx, const tinygltf::Primitive& prim, const st
         return false;
     }
     out.material = primitiveMaterial(ctx, prim, where);
-    out.positions = toVec3(readFloatAccessor(ctx, prim.attributes.at("POSITION"), TINYGLTF_TYPE_VEC3,
-                                             maxElements(ctx), where + " POSITION"));
+    out.positions =
+        toVec3(readFloatAccessor(ctx, prim.attributes.at("POSITION"), TINYGLTF_TYPE_VEC3,
+                                 maxElements(ctx), where + " POSITION"));
     for (Vec3f p : out.positions)
         if (!isFinite(p)) failf("{}: POSITION holds a NaN or infinite value", where);
     size_t n = out.positions.size();
@@ -110,6 +141,11 @@ bool decodePrimitive(LoadContext& ctx, const tinygltf::Primitive& prim, const st
     if (mode == TINYGLTF_MODE_TRIANGLES && refs.size() % 3 != 0)
         ctx.warn(where + ": triangle list length is not a multiple of 3; ignoring the rest");
     out.indices = assembleTriangles(mode, refs);
+    if (out.indices.empty()) {
+        ctx.warn(where + ": has no non-degenerate triangles; skipping it");
+        return false;
+    }
+    dropUnreferencedVertices(out);
     return true;
 }
 
@@ -179,8 +215,7 @@ std::vector<uint32_t> assembleTriangles(int mode, const std::vector<uint32_t>& v
         for (size_t i = 0; i + 2 < n; i += 3) emit(v[i], v[i + 1], v[i + 2]);
     } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         // glTF 2.0, 3.7.2.1: triangle i is (v_i, v_{i+(1+i%2)}, v_{i+(2-i%2)}).
-        for (size_t i = 0; i + 2 < n; ++i)
-            emit(v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]);
+        for (size_t i = 0; i + 2 < n; ++i) emit(v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]);
     } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
         // Triangle i is (v_{i+1}, v_{i+2}, v_0).
         for (size_t i = 0; i + 2 < n; ++i) emit(v[i + 1], v[i + 2], v[0]);

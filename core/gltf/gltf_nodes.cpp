@@ -26,7 +26,9 @@ Mat4 fromMatrix(const std::vector<double>& values) {
     return m;
 }
 
-Vec3f toVec3(const std::vector<double>& v) { return {toFloat(v[0]), toFloat(v[1]), toFloat(v[2])}; }
+Vec3f toVec3(const std::vector<double>& v) {
+    return {toFloat(v[0]), toFloat(v[1]), toFloat(v[2])};
+}
 
 Mat4 rotationOf(LoadContext& ctx, const std::vector<double>& q, int index) {
     double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -35,7 +37,8 @@ Mat4 rotationOf(LoadContext& ctx, const std::vector<double>& q, int index) {
         return Mat4::identity();
     }
     // Exporters write slightly non-unit quaternions; normalising keeps the rotation orthonormal.
-    return Mat4::rotation(float(q[0] / len), float(q[1] / len), float(q[2] / len), float(q[3] / len));
+    return Mat4::rotation(float(q[0] / len), float(q[1] / len), float(q[2] / len),
+                          float(q[3] / len));
 }
 
 std::vector<int> rootNodes(LoadContext& ctx) {
@@ -53,7 +56,8 @@ std::vector<int> rootNodes(LoadContext& ctx) {
     }
     int scene = model.defaultScene == -1 ? 0 : model.defaultScene;
     if (scene < 0 || size_t(scene) >= model.scenes.size())
-        failf("default scene index {} is out of range (the file has {})", scene, model.scenes.size());
+        failf("default scene index {} is out of range (the file has {})", scene,
+              model.scenes.size());
     return model.scenes[size_t(scene)].nodes;
 }
 
@@ -96,9 +100,10 @@ std::vector<NodeInstance> flattenDefaultScene(LoadContext& ctx) {
         int index = pending.node;
         const tinygltf::Node& node = checkedAt(nodes, index, "node");
         if (visited[size_t(index)])
-            failf("node {} is reached twice: the node hierarchy has a cycle or a node with two "
-                  "parents",
-                  index);
+            failf(
+                "node {} is reached twice: the node hierarchy has a cycle or a node with two "
+                "parents",
+                index);
         visited[size_t(index)] = true;
         if (pending.depth > ctx.limits.maxNodeDepth)
             failf("node hierarchy is deeper than {} levels (at node {})", ctx.limits.maxNodeDepth,

@@ -10,9 +10,9 @@ namespace partita::gltf {
 
 namespace {
 
-constexpr uint32_t kGlbMagic = 0x46546C67;     // "glTF"
-constexpr uint32_t kChunkJson = 0x4E4F534A;    // "JSON"
-constexpr uint32_t kChunkBin = 0x004E4942;     // "BIN\0"
+constexpr uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 constexpr uint64_t kHeaderBytes = 12, kChunkHeaderBytes = 8;
 
 uint32_t readLe32(const std::vector<uint8_t>& bytes, uint64_t offset) {
@@ -52,7 +52,8 @@ void checkDataUriBuffers(const nlohmann::json& root) {
         uint64_t size = decodedBase64Size(std::string_view(text).substr(comma + 8));
         uint64_t declared = byteLength->get<uint64_t>();
         if (size != declared)
-            failf("buffer {}: its data: URI holds {} bytes but byteLength is {}", i, size, declared);
+            failf("buffer {}: its data: URI holds {} bytes but byteLength is {}", i, size,
+                  declared);
     }
 }
 
@@ -121,7 +122,8 @@ void checkGltfJson(std::string_view json) {
     if (version == asset->end() || !version->is_string())
         fail("glTF asset has no \"version\" string");
     const std::string& v = version->get_ref<const std::string&>();
-    if (v.rfind("2.", 0) != 0) failf("glTF version {} is not supported (expected 2.x)", printableUri(v));
+    if (v.rfind("2.", 0) != 0)
+        failf("glTF version {} is not supported (expected 2.x)", printableUri(v));
 
     checkDataUriBuffers(root);
 

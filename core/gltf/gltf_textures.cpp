@@ -1,5 +1,6 @@
 #include "gltf/gltf_textures.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "gltf/gltf_common.h"
@@ -10,9 +11,12 @@ namespace {
 
 WrapMode wrapMode(LoadContext& ctx, int mode, int sampler) {
     switch (mode) {
-        case TINYGLTF_TEXTURE_WRAP_REPEAT: return WrapMode::Repeat;
-        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return WrapMode::ClampToEdge;
-        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::MirroredRepeat;
+        case TINYGLTF_TEXTURE_WRAP_REPEAT:
+            return WrapMode::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+            return WrapMode::ClampToEdge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+            return WrapMode::MirroredRepeat;
         default:
             ctx.warn(fmt::format("sampler {}: unknown wrap mode {}; using REPEAT", sampler, mode));
             return WrapMode::Repeat;
@@ -50,7 +54,8 @@ float srgbToLinear(float v) {
 
 const DecodedImage& TextureCache::image(int imageIndex) {
     auto it = images_.find(imageIndex);
-    if (it == images_.end()) it = images_.emplace(imageIndex, decodeImage(ctx_, io_, imageIndex)).first;
+    if (it == images_.end())
+        it = images_.emplace(imageIndex, decodeImage(ctx_, io_, imageIndex)).first;
     return it->second;
 }
 
@@ -66,6 +71,12 @@ int TextureCache::get(int textureIndex, ColorSpace space, const std::string& wha
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
 
     const DecodedImage& decoded = image(gltfTexture.source);
+    uint64_t pixels = uint64_t(decoded.width) * uint64_t(decoded.height);
+    if (pixels > ctx_.limits.maxTotalTexturePixels -
+                     std::min(ctx_.texturePixels, ctx_.limits.maxTotalTexturePixels))
+        failf("{}: textures exceed the limit of {} pixels in all", what,
+              ctx_.limits.maxTotalTexturePixels);
+    ctx_.texturePixels += pixels;
     Texture texture;
     texture.name = textureName(ctx_.model, gltfTexture.source);
     texture.width = decoded.width;

@@ -17,13 +17,13 @@ class TinyGltfIo;
 enum class ColorSpace { Linear, Srgb };
 
 class TextureCache {
-public:
+  public:
     TextureCache(LoadContext& ctx, const TinyGltfIo& io) : ctx_(ctx), io_(io) {}
 
     /// The SceneData::textures index for glTF texture `textureIndex` read in `space`.
     int get(int textureIndex, ColorSpace space, const std::string& what);
 
-private:
+  private:
     const DecodedImage& image(int imageIndex);
 
     LoadContext& ctx_;

@@ -13,32 +13,36 @@
 namespace partita {
 
 class ResourceResolver {
-public:
+  public:
     virtual ~ResourceResolver() = default;
     /// The bytes of the resource a (percent-decoded, relative) uri names, or an error message in
     /// `error` and nullopt when it is not allowed or does not exist.
-    virtual std::optional<std::vector<uint8_t>> read(const std::string& uri, std::string& error) const = 0;
+    virtual std::optional<std::vector<uint8_t>> read(const std::string& uri,
+                                                     std::string& error) const = 0;
 };
 
 /// Reads files inside one folder only: no absolute paths, no `..` escape, no scheme, and no
 /// symlink that resolves outside the folder.
 class FolderResolver : public ResourceResolver {
-public:
+  public:
     explicit FolderResolver(std::filesystem::path root, uint64_t maxFileBytes = uint64_t(1) << 30);
-    std::optional<std::vector<uint8_t>> read(const std::string& uri, std::string& error) const override;
+    std::optional<std::vector<uint8_t>> read(const std::string& uri,
+                                             std::string& error) const override;
 
-private:
+  private:
     std::filesystem::path root_;  // canonical
     uint64_t maxFileBytes_;
 };
 
 /// Serves resources uploaded with a job, by the relative name they were uploaded under.
 class MemoryResolver : public ResourceResolver {
-public:
-    explicit MemoryResolver(std::map<std::string, std::vector<uint8_t>> files) : files_(std::move(files)) {}
-    std::optional<std::vector<uint8_t>> read(const std::string& uri, std::string& error) const override;
+  public:
+    explicit MemoryResolver(std::map<std::string, std::vector<uint8_t>> files)
+        : files_(std::move(files)) {}
+    std::optional<std::vector<uint8_t>> read(const std::string& uri,
+                                             std::string& error) const override;
 
-private:
+  private:
     std::map<std::string, std::vector<uint8_t>> files_;
 };
 

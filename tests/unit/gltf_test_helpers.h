@@ -65,7 +65,8 @@ inline std::vector<uint8_t> makeGlb(const std::string& jsonText, const std::vect
     put32(8, uint32_t(total));
     put32(12, uint32_t(jsonLength));
     put32(16, 0x4E4F534A);
-    for (size_t i = 0; i < jsonLength; ++i) out[20 + i] = i < jsonText.size() ? uint8_t(jsonText[i]) : ' ';
+    for (size_t i = 0; i < jsonLength; ++i)
+        out[20 + i] = i < jsonText.size() ? uint8_t(jsonText[i]) : ' ';
     if (!bin.empty()) {
         put32(20 + jsonLength, uint32_t(binLength));
         put32(24 + jsonLength, 0x004E4942);
@@ -76,7 +77,7 @@ inline std::vector<uint8_t> makeGlb(const std::string& jsonText, const std::vect
 
 /// Accumulates one binary buffer and the JSON that describes it.
 class GltfBuilder {
-public:
+  public:
     GltfBuilder() {
         doc = {{"asset", {{"version", "2.0"}}}};
         doc["buffers"] = json::array();
@@ -177,7 +178,9 @@ inline GltfBuilder quadScene(const json& nodeExtras = json::object()) {
     return b;
 }
 
-inline std::vector<uint8_t> textBytes(const std::string& s) { return {s.begin(), s.end()}; }
+inline std::vector<uint8_t> textBytes(const std::string& s) {
+    return {s.begin(), s.end()};
+}
 
 inline SceneData loadJson(const json& doc, std::map<std::string, std::vector<uint8_t>> files = {},
                           const GltfLoadLimits& limits = {}) {
@@ -198,7 +201,8 @@ std::string errorOf(F&& load) {
     return {};
 }
 
-inline std::string jsonError(const json& doc, std::map<std::string, std::vector<uint8_t>> files = {},
+inline std::string jsonError(const json& doc,
+                             std::map<std::string, std::vector<uint8_t>> files = {},
                              const GltfLoadLimits& limits = {}) {
     return errorOf([&] { loadJson(doc, std::move(files), limits); });
 }
@@ -261,7 +265,7 @@ inline std::vector<uint8_t> makePng(int width, int height, int channels,
 // ---- temporary folders ----
 
 class TempDir {
-public:
+  public:
     TempDir() {
         char pattern[] = "/tmp/partita-gltf-XXXXXX";
         char* made = mkdtemp(pattern);
@@ -284,7 +288,7 @@ public:
         return p;
     }
 
-private:
+  private:
     std::filesystem::path path_;
 };
 

@@ -18,13 +18,19 @@ std::string bytesError(const std::vector<uint8_t>& bytes, bool isBinary,
     return errorOf([&] { loadGltfMemory(bytes, isBinary, MemoryResolver({}), limits); });
 }
 
-std::string textError(const std::string& text) { return bytesError(textBytes(text), false); }
+std::string textError(const std::string& text) {
+    return bytesError(textBytes(text), false);
+}
 
 // ---- containers and JSON ----
 
-TEST(GltfErrors, InvalidJson) { EXPECT_MENTIONS(textError("{\"asset\": {\"version\": "), "invalid JSON"); }
+TEST(GltfErrors, InvalidJson) {
+    EXPECT_MENTIONS(textError("{\"asset\": {\"version\": "), "invalid JSON");
+}
 
-TEST(GltfErrors, JsonRootIsNotAnObject) { EXPECT_MENTIONS(textError("[1, 2, 3]"), "not an object"); }
+TEST(GltfErrors, JsonRootIsNotAnObject) {
+    EXPECT_MENTIONS(textError("[1, 2, 3]"), "not an object");
+}
 
 TEST(GltfErrors, MissingAssetAndWrongVersion) {
     EXPECT_MENTIONS(textError("{\"nodes\": []}"), "asset");
@@ -32,8 +38,9 @@ TEST(GltfErrors, MissingAssetAndWrongVersion) {
 }
 
 TEST(GltfErrors, DeeplyNestedJsonIsRefused) {
-    std::string deep = "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(100000, '[') +
-                       std::string(100000, ']') + "}";
+    std::string deep =
+        "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(100000, '[') +
+        std::string(100000, ']') + "}";
     EXPECT_MENTIONS(textError(deep), "nests deeper");
 }
 
@@ -138,6 +145,21 @@ TEST(GltfErrors, AbsurdCountsHitTheLimits) {
     EXPECT_MENTIONS(jsonError(c.embedded()), "implausibly large");
 }
 
+TEST(GltfErrors, ManyPrimitivesSharingAnAccessorHitTheDecodeBudget) {
+    // Each primitive re-reads the same accessor; the total work is bounded by the triangle limit.
+    GltfLoadLimits limits;
+    limits.maxTriangles = 1000;  // budget: 16 * 1000 + 2^20 elements
+    GltfBuilder b;
+    int pos = b.floats(std::vector<float>(3 * 3000, 0.5f), "VEC3");
+    int idx = b.indices<uint16_t>({0, 1, 2});
+    b.doc["accessors"][pos]["count"] = 3000;
+    json prims = json::array();
+    for (int i = 0; i < 400; ++i)
+        prims.push_back({{"attributes", {{"POSITION", pos}}}, {"indices", idx}});
+    b.scene({b.node({{"mesh", b.mesh(prims)}})});
+    EXPECT_MENTIONS(jsonError(b.embedded(), {}, limits), "elements in all (the limit)");
+}
+
 TEST(GltfErrors, TriangleLimit) {
     GltfLoadLimits limits;
     limits.maxTriangles = 3;
@@ -180,7 +202,8 @@ TEST(GltfErrors, IndexOutOfRangeOfVertexCount) {
 TEST(GltfErrors, NonFinitePositions) {
     for (float bad : {NAN, INFINITY}) {
         GltfBuilder b;
-        json prim = {{"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 0, bad, 0}, "VEC3")}}}};
+        json prim = {
+            {"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 0, bad, 0}, "VEC3")}}}};
         b.scene({b.node({{"mesh", b.mesh(json::array({prim}))}})});
         EXPECT_MENTIONS(jsonError(b.embedded()), "NaN or infinite");
     }

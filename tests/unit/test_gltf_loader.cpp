@@ -90,12 +90,35 @@ TEST(GltfLoader, PercentEncodedUriIsDecoded) {
     EXPECT_EQ(loadGltfFile(file).meshes.size(), 1u);
 }
 
+#ifdef PARTITA_SCENES_DIR
+TEST(GltfLoader, LoadsEveryShippedScene) {
+    namespace fs = std::filesystem;
+    fs::path dir = PARTITA_SCENES_DIR;
+    int count = 0;
+    if (fs::exists(dir)) {
+        for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+            fs::path ext = entry.path().extension();
+            if (ext != ".gltf" && ext != ".glb") continue;
+            SCOPED_TRACE(entry.path().string());
+            SceneData s = loadGltfFile(entry.path());
+            EXPECT_FALSE(s.meshes.empty());
+            EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+            ++count;
+        }
+    }
+    if (count == 0) GTEST_SKIP() << "no shipped scenes in " << dir;
+}
+#endif
+
 // ---- node hierarchy ----
 
-SceneData loadQuadWithNode(const json& nodeProps) { return loadJson(quadScene(nodeProps).embedded()); }
+SceneData loadQuadWithNode(const json& nodeProps) {
+    return loadJson(quadScene(nodeProps).embedded());
+}
 
 TEST(GltfNodes, TranslationRotationScale) {
-    // Scale x by 2, rotate 90 degrees about +Z, translate by (10, 0, 0): (1,0,0) -> (0,2,0) -> (10,2,0).
+    // Scale x by 2, rotate 90 degrees about +Z, translate by (10, 0, 0): (1,0,0) -> (0,2,0) ->
+    // (10,2,0).
     float h = std::sqrt(0.5f);
     SceneData s = loadQuadWithNode(
         {{"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 1, 1}}});
@@ -233,9 +256,10 @@ TEST(GltfTopology, TriangleFanAndAssemblyOrder) {
     // A repeated index (strip restart) makes a degenerate triangle, which is dropped.
     EXPECT_EQ(gltf::assembleTriangles(5, {0, 1, 1, 2}), (std::vector<uint32_t>{}));
     SceneData s = loadPrimitive([](GltfBuilder& b) {
-        return json{{"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3")}}},
-                    {"indices", b.indices<uint8_t>({0, 1, 2, 3})},
-                    {"mode", 6}};
+        return json{
+            {"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3")}}},
+            {"indices", b.indices<uint8_t>({0, 1, 2, 3})},
+            {"mode", 6}};
     });
     ASSERT_EQ(s.meshes[0].triangleCount(), 2u);
     expectNear(geometricNormal(s.meshes[0], 1), {0, 0, 1});
@@ -244,14 +268,21 @@ TEST(GltfTopology, TriangleFanAndAssemblyOrder) {
 TEST(GltfTopology, IndexComponentTypesAndNonIndexed) {
     auto withIndices = [](const std::function<int(GltfBuilder&)>& indices) {
         return loadPrimitive([&](GltfBuilder& b) {
-            json p = {{"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3")}}}};
+            json p = {{"attributes",
+                       {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3")}}}};
             if (indices) p["indices"] = indices(b);
             return p;
         });
     };
-    SceneData u8 = withIndices([](GltfBuilder& b) { return b.indices<uint8_t>({0, 1, 2, 0, 2, 3}); });
-    SceneData u16 = withIndices([](GltfBuilder& b) { return b.indices<uint16_t>({0, 1, 2, 0, 2, 3}); });
-    SceneData u32 = withIndices([](GltfBuilder& b) { return b.indices<uint32_t>({0, 1, 2, 0, 2, 3}); });
+    SceneData u8 = withIndices([](GltfBuilder& b) {
+        return b.indices<uint8_t>({0, 1, 2, 0, 2, 3});
+    });
+    SceneData u16 = withIndices([](GltfBuilder& b) {
+        return b.indices<uint16_t>({0, 1, 2, 0, 2, 3});
+    });
+    SceneData u32 = withIndices([](GltfBuilder& b) {
+        return b.indices<uint32_t>({0, 1, 2, 0, 2, 3});
+    });
     SceneData none = withIndices(nullptr);
     EXPECT_EQ(u8.meshes[0].triangleCount(), 2u);
     EXPECT_EQ(u16.meshes[0].triangleCount(), 2u);
@@ -268,6 +299,25 @@ TEST(GltfTopology, PointsAndLinesAreSkippedWithWarning) {
     SceneData s = loadJson(b.embedded());
     EXPECT_EQ(s.meshes.size(), 1u);
     EXPECT_TRUE(hasWarning(s, "points and lines"));
+}
+
+TEST(GltfTopology, UnreferencedVerticesAreDroppedAndEmptyPrimitivesSkipped) {
+    GltfBuilder b;
+    json used = {{"attributes",
+                  {{"POSITION", b.floats({0, 0, 0, 9, 9, 9, 1, 0, 0, 8, 8, 8, 0, 1, 0}, "VEC3")},
+                   {"NORMAL", b.floats({0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 1}, "VEC3")}}},
+                 {"indices", b.indices<uint8_t>({0, 2, 4})}};
+    json degenerate = {{"attributes", {{"POSITION", b.floats(kFivePoints, "VEC3")}}},
+                       {"indices", b.indices<uint8_t>({0, 1, 1, 2, 2, 2})}};
+    b.scene({b.node({{"mesh", b.mesh(json::array({used, degenerate}))}})});
+    SceneData s = loadJson(b.embedded());
+    ASSERT_EQ(s.meshes.size(), 1u);
+    const TriangleMesh& m = s.meshes[0];
+    EXPECT_EQ(m.positions.size(), 3u);
+    EXPECT_EQ(m.normals.size(), 3u);
+    EXPECT_EQ(m.indices, (std::vector<uint32_t>{0, 1, 2}));
+    expectNear(m.positions[1], {1, 0, 0});
+    EXPECT_TRUE(hasWarning(s, "no non-degenerate triangles"));
 }
 
 // ---- normals ----
@@ -329,7 +379,8 @@ TEST(GltfAccessors, FloatTexcoordAndBothSets) {
 
 TEST(GltfAccessors, InterleavedByteStrideAndByteOffset) {
     // Per vertex: position (3 floats) then texcoord (2 floats), stride 20, after an 8-byte header.
-    std::vector<float> interleaved = {0, 0, 0, 0.1f, 0.2f, 1, 0, 0, 0.3f, 0.4f, 0, 1, 0, 0.5f, 0.6f};
+    std::vector<float> interleaved = {0,    0,    0, 0.1f, 0.2f, 1,    0,   0,
+                                      0.3f, 0.4f, 0, 1,    0,    0.5f, 0.6f};
     std::vector<uint8_t> raw(8, 0xAB);
     auto body = bytesOf(interleaved);
     raw.insert(raw.end(), body.begin(), body.end());
@@ -366,7 +417,9 @@ TEST(GltfAccessors, SparseSubstitutionOverBufferView) {
         int pos = p["attributes"]["POSITION"];
         b.doc["accessors"][pos]["sparse"] = {
             {"count", 1},
-            {"indices", {{"bufferView", b.view(bytesOf(std::vector<uint16_t>{2, 0}))}, {"componentType", kUShort}}},
+            {"indices",
+             {{"bufferView", b.view(bytesOf(std::vector<uint16_t>{2, 0}))},
+              {"componentType", kUShort}}},
             {"values", {{"bufferView", b.view(bytesOf(std::vector<float>{0, 7, 0}))}}}};
         return p;
     });

@@ -45,7 +45,7 @@ TEST(MemoryResolver, ServesUploadsAndRefusesTheRest) {
 }
 
 class FolderResolverTest : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
         scene = std::make_unique<TempDir>();
         outside = std::make_unique<TempDir>();
@@ -112,10 +112,10 @@ TEST_F(FolderResolverTest, LoaderRefusesTraversalUris) {
     std::string rel = "../" + outside->path().filename().string() + "/x.bin";
 
     EXPECT_NE(loadFromFolderWithUri(*scene, rel).find("'..'"), std::string::npos);
-    EXPECT_NE(loadFromFolderWithUri(*scene, "%2e%2e/" + outside->path().filename().string() +
-                                                "/x.bin")
-                  .find("'..'"),
-              std::string::npos);
+    EXPECT_NE(
+        loadFromFolderWithUri(*scene, "%2e%2e/" + outside->path().filename().string() + "/x.bin")
+            .find("'..'"),
+        std::string::npos);
     EXPECT_NE(loadFromFolderWithUri(*scene, (outside->path() / "x.bin").string()).find("absolute"),
               std::string::npos);
     EXPECT_NE(loadFromFolderWithUri(*scene, "file:///etc/passwd").find("scheme"),

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bsdf.h"
+#include "integrators/pt/film_sink.h"
 #include "render_scene.h"
 
 namespace partita {
@@ -35,26 +36,30 @@ struct PathState {
     int contributions = 0;
 };
 
+/// Sink: ContributionSink (virtual) or FilmSink (inlined); both have add(const PathContribution&).
+template <typename Sink>
 class PathSampler {
 public:
-    PathSampler(const RenderScene& scene, Rng& rng, const PathSamplerSettings& settings, ContributionSink& sink,
+    PathSampler(const RenderScene& scene, Rng& rng, const PathSamplerSettings& settings, Sink& sink,
                 PathCounters& counters)
         : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
 
     void run(Ray ray) {
+        SurfaceHit hit;
         for (int depth = 0;; ++depth) {
             ++counters_.rays;
-            auto hit = scene_.intersect(ray);
-            if (!hit) return;
-            state_.beta *= beerLambert(state_.mediumAbsorption, hit->t * length(ray.d));
-            addEmission(*hit, -ray.d);
+            if (!scene_.intersect(ray, hit)) return;
+            if (!isBlack(state_.mediumAbsorption))
+                state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray.d));
+            addEmission(hit, -ray.d);
             // This hit becomes scattering vertex number depth + 1.
             if (depth + 1 > settings_.maxDepth) return;
-            Bsdf bsdf = scene_.bsdfAt(*hit);
-            PathType typeHere = state_.type.withVertex(bsdf.isDelta());
+            Bsdf bsdf = scene_.bsdfAt(hit);
+            bool delta = bsdf.isDelta();
+            PathType typeHere = state_.type.withVertex(delta);
             Vec3f wo = -normalize(ray.d);
-            if (!bsdf.isDelta()) addNextEvent(*hit, bsdf, wo, typeHere);
-            if (!continuePath(*hit, bsdf, wo, typeHere, ray, depth)) return;
+            if (!delta) addNextEvent(hit, bsdf, wo, typeHere);
+            if (!continuePath(hit, bsdf, wo, typeHere, ray, depth)) return;
         }
     }
 
@@ -134,7 +139,7 @@ private:
     const RenderScene& scene_;
     Rng& rng_;
     const PathSamplerSettings& settings_;
-    ContributionSink& sink_;
+    Sink& sink_;
     PathCounters& counters_;
     PathState state_;
 };
@@ -143,7 +148,12 @@ private:
 
 void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
                 ContributionSink& sink, PathCounters& counters) {
-    PathSampler(scene, rng, settings, sink, counters).run(primary);
+    PathSampler<ContributionSink>(scene, rng, settings, sink, counters).run(primary);
+}
+
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
+                FilmSink& sink, PathCounters& counters) {
+    PathSampler<FilmSink>(scene, rng, settings, sink, counters).run(primary);
 }
 
 }  // namespace partita

@@ -46,4 +46,10 @@ struct PathCounters {
 void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
                 ContributionSink& sink, PathCounters& counters);
 
+class FilmSink;
+/// The same path, its contributions added straight to one film pixel: the path tracer's hot
+/// loop, without a virtual call per contribution (the sampler is compiled for both sinks).
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
+                FilmSink& sink, PathCounters& counters);
+
 }  // namespace partita

@@ -7,6 +7,7 @@
 
 #include "camera.h"
 #include "film.h"
+#include "integrators/pt/film_sink.h"
 #include "integrators/pt/path_sampler.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -20,17 +21,6 @@ Vec2f filteredRasterPosition(int x, int y, Vec2f u) {
 }
 
 namespace {
-
-/// Adds every contribution of one pixel's paths to the film.
-class FilmSink : public ContributionSink {
-public:
-    FilmSink(Film& film, int x, int y) : film_(film), x_(x), y_(y) {}
-    void add(const PathContribution& c) override { film_.addSample(x_, y_, c.type, c.value); }
-
-private:
-    Film& film_;
-    int x_, y_;
-};
 
 struct PassRange {
     uint64_t firstSample, endSample;
@@ -59,6 +49,7 @@ public:
             auto passStart = std::chrono::steady_clock::now();
             renderPass({begin, end}, progress);
             double passSeconds = secondsSince(passStart);
+            renderSeconds_ += passSeconds;
             sppDone_ = end;
             double elapsed = secondsSince(start);
             if (timed && elapsed >= s.budget) break;
@@ -121,6 +112,8 @@ private:
         st.values["spp"] = double(sppDone_);
         st.values["rays"] = double(rays_.load());
         st.values["seconds"] = seconds;
+        // Only the passes: no setup, previews or final resolve (the ray rate of the sampling).
+        st.values["render_seconds"] = renderSeconds_;
         st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
         st.values["path_types"] = double(film_.typeCount());
         st.values["dropped_samples"] = double(film_.droppedSamples());
@@ -131,6 +124,7 @@ private:
     Film film_;
     PathSamplerSettings samplerSettings_;
     uint64_t sppDone_ = 0;
+    double renderSeconds_ = 0;  // sum of the passes' wall-clock times
     std::atomic<uint64_t> rays_{0};
 };
 
