@@ -28,10 +28,12 @@ build: configure
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS) --timeout 900
 
+# Renders through the daemon: with no --server, `partita` starts a private partitad on a free
+# loopback port with a temporary store for the duration of the command.
 demo: build
 	@mkdir -p out
-	$(BUILD)/tools/local/partita-local render $(SCENE) --spp $(DEMO_SPP) --out out/demo.exr --png out/demo.png
-	@echo "demo: out/demo.exr (radiance, one layer per path type) and out/demo.png (preview)"
+	$(BUILD)/client/partita render $(SCENE) --spp $(DEMO_SPP) --out out/demo.exr --previews out/previews
+	@echo "demo: out/demo.exr (radiance, one layer per path type), out/demo.png, out/demo.json, out/previews/"
 
 bench: deps
 	@cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DPARTITA_BUILD_TESTS=OFF -DPARTITA_BUILD_BENCH=ON >/dev/null

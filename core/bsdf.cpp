@@ -1,5 +1,6 @@
-// Bsdf: world <-> local conversion around the lobes, two-sided opaque surfaces, and the guard
-// against light leaks through shading normals.
+// Bsdf and BoundBsdf (a Bsdf with wo fixed, which implements Bsdf's queries): world <-> local
+// conversion around the lobes, two-sided opaque surfaces, and the guard against light leaks
+// through shading normals.
 //
 // Two-sidedness. The frame and ng face the surface's front (see SurfacePoint in
 // material_mapping.h). Transmissive lobes need that orientation to tell inside from outside.
@@ -14,14 +15,11 @@
 // sample() consistent with eval()/pdf(), which MIS and MCMC acceptance ratios rely on.
 #include "bsdf.h"
 
+#include "bsdfs/bound_bsdf.h"
+
 namespace partita {
 
 namespace {
-
-bool isTransmissive(const BsdfLobe& lobe) {
-    return std::holds_alternative<DielectricLobe>(lobe) ||
-           std::holds_alternative<SmoothDielectricLobe>(lobe);
-}
 
 // The lobe may give a non-zero value for (wo, wi) only if the lobe's notion of reflection
 // (same side of the shading normal) agrees with the geometric one (same side of ng).
@@ -32,47 +30,66 @@ bool consistentSides(Vec3f woLocal, Vec3f wiLocal, float cosNgO, float cosNgI) {
     return geometricReflection == shadingReflection;
 }
 
-// The local-frame directions the lobe sees: mirrored for opaque lobes hit from the back.
-struct LocalPair {
-    Vec3f wo, wi;
-};
-
-LocalPair toLocal(const Frame& frame, Vec3f ng, const BsdfLobe& lobe, Vec3f wo, Vec3f wi) {
-    LocalPair p{frame.toLocal(wo), frame.toLocal(wi)};
-    if (!isTransmissive(lobe) && dot(wo, ng) < 0) {
-        p.wo.z = -p.wo.z;
-        p.wi.z = -p.wi.z;
-    }
-    return p;
-}
-
 }  // namespace
 
-Rgb Bsdf::eval(Vec3f wo, Vec3f wi, TransportMode mode) const {
-    LocalPair p = toLocal(frame_, ng_, lobe_, wo, wi);
-    if (!consistentSides(p.wo, p.wi, dot(wo, ng_), dot(wi, ng_))) return Rgb(0.0f);
-    return std::visit([&](const auto& l) { return l.eval(p.wo, p.wi, mode); }, lobe_);
+std::optional<Vec3f> BoundBsdf::localWi(Vec3f wi) const {
+    Vec3f w = bsdf_.frame().toLocal(wi);
+    if (flip_) w.z = -w.z;
+    if (!consistentSides(woLocal_, w, cosNgO_, dot(wi, bsdf_.geometricNormal()))) return std::nullopt;
+    return w;
 }
 
-float Bsdf::pdf(Vec3f wo, Vec3f wi) const {
-    LocalPair p = toLocal(frame_, ng_, lobe_, wo, wi);
-    if (!consistentSides(p.wo, p.wi, dot(wo, ng_), dot(wi, ng_))) return 0;
-    return std::visit([&](const auto& l) { return l.pdf(p.wo, p.wi); }, lobe_);
+BoundBsdf::Value BoundBsdf::evalPdf(Vec3f wi, TransportMode mode) const {
+    std::optional<Vec3f> w = localWi(wi);
+    if (!w) return {};
+    return std::visit([&](const auto& l) { return Value{l.eval(woLocal_, *w, mode), l.pdf(woLocal_, *w)}; },
+                      bsdf_.lobe());
 }
+
+Rgb BoundBsdf::eval(Vec3f wi, TransportMode mode) const {
+    std::optional<Vec3f> w = localWi(wi);
+    if (!w) return Rgb(0.0f);
+    return std::visit([&](const auto& l) { return l.eval(woLocal_, *w, mode); }, bsdf_.lobe());
+}
+
+float BoundBsdf::pdf(Vec3f wi) const {
+    std::optional<Vec3f> w = localWi(wi);
+    if (!w) return 0;
+    return std::visit([&](const auto& l) { return l.pdf(woLocal_, *w); }, bsdf_.lobe());
+}
+
+bool BoundBsdf::sample(float uc, Vec2f u, BsdfSample& out, TransportMode mode) const {
+    if (woLocal_.z == 0) return false;
+    std::optional<BsdfSample> s =
+        std::visit([&](const auto& l) { return l.sample(woLocal_, uc, u, mode); }, bsdf_.lobe());
+    if (!s || s->pdf <= 0) return false;
+    Vec3f wiShading = s->wi;  // in the (unmirrored) shading frame
+    if (flip_) wiShading.z = -wiShading.z;
+    Vec3f wi = bsdf_.frame().toWorld(wiShading);
+    if (!consistentSides(woLocal_, s->wi, cosNgO_, dot(wi, bsdf_.geometricNormal()))) return false;
+    // Field by field rather than `out = *s`: a block copy of the lobe's freshly written fields
+    // stalls on store forwarding (it was 2% of the path tracer's time).
+    out.f = s->f;
+    out.wi = wi;
+    out.pdf = s->pdf;
+    out.isDelta = s->isDelta;
+    out.isTransmission = s->isTransmission;
+    out.eta = s->eta;
+    return true;
+}
+
+std::optional<BsdfSample> BoundBsdf::sample(float uc, Vec2f u, TransportMode mode) const {
+    BsdfSample s;
+    if (!sample(uc, u, s, mode)) return std::nullopt;
+    return s;
+}
+
+Rgb Bsdf::eval(Vec3f wo, Vec3f wi, TransportMode mode) const { return BoundBsdf(*this, wo).eval(wi, mode); }
+
+float Bsdf::pdf(Vec3f wo, Vec3f wi) const { return BoundBsdf(*this, wo).pdf(wi); }
 
 std::optional<BsdfSample> Bsdf::sample(Vec3f wo, float uc, Vec2f u, TransportMode mode) const {
-    Vec3f woLocal = frame_.toLocal(wo);
-    bool flip = !isTransmissive(lobe_) && dot(wo, ng_) < 0;
-    if (flip) woLocal.z = -woLocal.z;
-    if (woLocal.z == 0) return std::nullopt;
-    std::optional<BsdfSample> s =
-        std::visit([&](const auto& l) { return l.sample(woLocal, uc, u, mode); }, lobe_);
-    if (!s || s->pdf <= 0) return std::nullopt;
-    Vec3f wiLocal = s->wi;
-    if (flip) s->wi.z = -s->wi.z;
-    s->wi = frame_.toWorld(s->wi);
-    if (!consistentSides(woLocal, wiLocal, dot(wo, ng_), dot(s->wi, ng_))) return std::nullopt;
-    return s;
+    return BoundBsdf(*this, wo).sample(uc, u, mode);
 }
 
 bool Bsdf::isDelta() const {

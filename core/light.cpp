@@ -32,28 +32,6 @@ float lightPower(const Light& light) {
 
 bool isDeltaLight(const Light& light) { return !std::holds_alternative<AreaLight>(light); }
 
-std::optional<LightSample> sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, Vec3f& bary) {
-    Vec2f b = sampleUniformTriangle(u);
-    bary = {b.x, b.y, 1 - b.x - b.y};
-    Vec3f p = l.p0 * bary.x + l.p1 * bary.y + l.p2 * bary.z;
-    Vec3f d = p - ref;
-    float dist2 = lengthSquared(d);
-    if (dist2 <= 0) return std::nullopt;
-    float dist = std::sqrt(dist2);
-    Vec3f wi = d / dist;
-    if (!areaLightEmitsTowards(l, -wi)) return std::nullopt;
-    float cosLight = absDot(l.normal, wi);
-    if (cosLight <= 0) return std::nullopt;
-    LightSample s;
-    s.wi = wi;
-    s.point = p;
-    s.normal = l.normal;
-    s.distance = dist;
-    // Uniform area density 1/A converted to solid angle: d^2 / (|cos| A).
-    s.pdf = dist2 / (cosLight * l.area);
-    return s;
-}
-
 float areaLightPdf(const AreaLight& l, Vec3f ref, Vec3f p) {
     Vec3f d = p - ref;
     float dist2 = lengthSquared(d);

@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "math/vec.h"
+#include "sampling.h"
 
 namespace partita {
 
@@ -66,16 +67,40 @@ using Light = std::variant<AreaLight, PointLight, SpotLight, DirectionalLight>;
 float lightPower(const Light& light);
 bool isDeltaLight(const Light& light);
 
-/// Sample a point on an area light uniformly by area; `emitted` is the radiance it sends along
-/// -wi (the caller evaluates textures), computed by RenderScene.
-std::optional<LightSample> sampleAreaLight(const AreaLight& light, Vec3f ref, Vec2f u, Vec3f& barycentric);
-/// Solid-angle density at `ref` of sampling `pointOnLight` on `light` by sampleAreaLight.
-float areaLightPdf(const AreaLight& light, Vec3f ref, Vec3f pointOnLight);
 /// Whether the area light emits along direction w leaving its surface.
 inline bool areaLightEmitsTowards(const AreaLight& light, Vec3f w) {
     float c = dot(light.normal, w);
     return light.twoSided ? c != 0 : c > 0;
 }
+
+/// Sample a point on an area light uniformly by area, as seen from `ref`; false when it sends
+/// nothing towards ref. Fills everything but `radiance` (the caller evaluates the material,
+/// which may be textured: RenderScene::sampleLight). Inline: next-event estimation calls it
+/// once per path vertex.
+inline bool sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, LightSample& s, Vec3f& barycentric) {
+    Vec2f b = sampleUniformTriangle(u);
+    barycentric = {b.x, b.y, 1 - b.x - b.y};
+    Vec3f p = l.p0 * barycentric.x + l.p1 * barycentric.y + l.p2 * barycentric.z;
+    Vec3f d = p - ref;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return false;
+    float dist = std::sqrt(dist2);
+    Vec3f wi = d / dist;
+    if (!areaLightEmitsTowards(l, -wi)) return false;
+    float cosLight = absDot(l.normal, wi);
+    if (cosLight <= 0) return false;
+    s.wi = wi;
+    s.point = p;
+    s.normal = l.normal;
+    s.distance = dist;
+    // Uniform area density 1/A converted to solid angle: d^2 / (|cos| A).
+    s.pdf = dist2 / (cosLight * l.area);
+    s.isDelta = false;
+    return true;
+}
+
+/// Solid-angle density at `ref` of sampling `pointOnLight` on `light` by sampleAreaLight.
+float areaLightPdf(const AreaLight& light, Vec3f ref, Vec3f pointOnLight);
 
 std::optional<LightSample> samplePunctualLight(const Light& light, Vec3f ref);
 

@@ -1,5 +1,9 @@
-// Rays and robust ray origins.
+// Rays and robust ray origins. Inline: a path tracer offsets three points per path vertex.
 #pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
 
 #include "math/vec.h"
 
@@ -10,17 +14,65 @@ struct Ray {
     float tMax = kInf;
 };
 
+namespace detail {
+/// One coordinate of offsetRayOrigin: `n` is the (signed) normal component.
+inline float offsetComponent(float p, float n) {
+    constexpr float kOrigin = 1.0f / 32.0f;
+    constexpr float kFloatScale = 1.0f / 65536.0f;
+    constexpr float kIntScale = 256.0f;
+    int32_t ofi = int32_t(kIntScale * n);
+    int32_t bits = std::bit_cast<int32_t>(p);
+    float pi = std::bit_cast<float>(bits + (p < 0 ? -ofi : ofi));
+    return std::abs(p) < kOrigin ? p + kFloatScale * n : pi;
+}
+}  // namespace detail
+
 /// Offset a surface point along its geometric normal, to the side `w` leaves towards, far enough
 /// that the new ray does not re-hit the surface it starts on. Integer-ULP scheme of Wachter and
 /// Binder (Ray Tracing Gems, ch. 6): scales with the magnitude of the coordinates, so it is
 /// robust both near the origin and far from it.
-Vec3f offsetRayOrigin(Vec3f p, Vec3f ng, Vec3f w);
+inline Vec3f offsetRayOrigin(Vec3f p, Vec3f ng, Vec3f w) {
+    Vec3f n = dot(ng, w) < 0 ? -ng : ng;
+    return {detail::offsetComponent(p.x, n.x), detail::offsetComponent(p.y, n.y),
+            detail::offsetComponent(p.z, n.z)};
+}
 
 /// A ray from p (offset) towards direction d.
 inline Ray spawnRay(Vec3f p, Vec3f ng, Vec3f d) { return {offsetRayOrigin(p, ng, d), d, kInf}; }
 
-/// A shadow ray segment from p to q, both offset, for occlusion queries. tMax is just below 1
-/// so that q's own surface does not occlude; d is unnormalised (q - p).
-Ray spawnShadowRay(Vec3f p, Vec3f ngP, Vec3f q, Vec3f ngQ);
+/// The shadow ray segment from the offset origin `from` (of point p) to q, offset on p's side of
+/// its normal ngQ. tMax is just below 1 so that q's own surface does not occlude; d is
+/// unnormalised.
+inline Ray shadowRayFrom(Vec3f from, Vec3f p, Vec3f q, Vec3f ngQ) {
+    Vec3f to = offsetRayOrigin(q, ngQ, p - q);
+    return {from, to - from, 1.0f - 1e-4f};
+}
+
+/// A shadow ray segment from p to q, both offset, for occlusion queries (see shadowRayFrom).
+inline Ray spawnShadowRay(Vec3f p, Vec3f ngP, Vec3f q, Vec3f ngQ) {
+    return shadowRayFrom(offsetRayOrigin(p, ngP, q - p), p, q, ngQ);
+}
+
+/// offsetRayOrigin for the rays that leave one surface point (a path vertex's shadow ray and
+/// continuation): the offset point depends only on the side of ng a ray leaves towards, so each
+/// side is computed once, when first needed.
+class RayOrigins {
+public:
+    RayOrigins(Vec3f p, Vec3f ng) : p_(p), ng_(ng) {}
+    /// offsetRayOrigin(p, ng, w).
+    Vec3f towards(Vec3f w) {
+        int side = dot(ng_, w) < 0 ? 1 : 0;
+        if (!known_[side]) {
+            origin_[side] = offsetRayOrigin(p_, ng_, w);
+            known_[side] = true;
+        }
+        return origin_[side];
+    }
+
+private:
+    Vec3f p_, ng_;
+    Vec3f origin_[2];
+    bool known_[2] = {false, false};
+};
 
 }  // namespace partita

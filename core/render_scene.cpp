@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -35,6 +36,13 @@ RenderScene::RenderScene(SceneData data) : data_(std::move(data)), embree_(std::
 RenderScene::~RenderScene() = default;
 
 namespace {
+/// The unit shading normal from an interpolated vertex normal, flipped to ng's side; ng where
+/// the interpolated normal has no direction.
+Vec3f shadingNormal(Vec3f n, Vec3f ng) {
+    float len = length(n);
+    return (len > 0 && std::isfinite(len)) ? faceForward(n / len, ng) : ng;
+}
+
 /// Whether makeBsdf reads a texture for this material (then the BSDF varies over the surface).
 bool bsdfUsesTextures(const Material& m) {
     return m.baseColorTexture.valid() || m.metallicRoughnessTexture.valid() || m.transmissionTexture.valid();
@@ -56,10 +64,13 @@ void RenderScene::prepareMeshes() {
         // Without textures makeBsdf's lobe does not depend on the point, only its frame does.
         if (info.constantBsdf) info.lobe = makeBsdf(*info.material, data_.textures, SurfacePoint{}).lobe();
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-            const Vec3f& p0 = mesh.positions[mesh.indices[3 * t]];
-            const Vec3f& p1 = mesh.positions[mesh.indices[3 * t + 1]];
-            const Vec3f& p2 = mesh.positions[mesh.indices[3 * t + 2]];
-            triangles_[first + t].ng = normalize(cross(p1 - p0, p2 - p0));
+            const uint32_t* idx = &mesh.indices[3 * t];
+            const Vec3f &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]], &p2 = mesh.positions[idx[2]];
+            TriangleInfo& info = triangles_[first + t];
+            info.ng = normalize(cross(p1 - p0, p2 - p0));
+            const Vec3f &n0 = mesh.normals[idx[0]], &n1 = mesh.normals[idx[1]], &n2 = mesh.normals[idx[2]];
+            info.flat = n0 == n1 && n1 == n2;
+            if (info.flat) info.ns = shadingNormal(n0, info.ng);
         }
         first += uint32_t(mesh.triangleCount());
     }
@@ -166,7 +177,22 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    fillHit(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    // The hit point and its normals.
+    const uint32_t meshIndex = rh.hit.geomID, tri = rh.hit.primID;
+    const float u = rh.hit.u, v = rh.hit.v, w = 1 - u - v;
+    const TriangleMesh& mesh = data_.meshes[meshIndex];
+    const uint32_t* idx = &mesh.indices[3 * size_t(tri)];
+    hit.t = rh.ray.tfar;
+    hit.mesh = meshIndex;
+    hit.triangle = tri;
+    hit.barycentric = {u, v};
+    // The barycentric point is more accurate than o + t d, which matters for ray offsets.
+    hit.p = mesh.positions[idx[0]] * w + mesh.positions[idx[1]] * u + mesh.positions[idx[2]] * v;
+    const TriangleInfo& info = triangles_[meshes_[meshIndex].firstTriangle + tri];
+    hit.ng = info.ng;
+    hit.ns = info.flat ? info.ns
+                       : shadingNormal(mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * u + mesh.normals[idx[2]] * v,
+                                       info.ng);
     return true;
 }
 
@@ -217,22 +243,6 @@ bool RenderScene::occluded(const Ray& ray) const {
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-void RenderScene::fillHit(uint32_t meshIndex, uint32_t tri, float u, float v, float t, SurfaceHit& hit) const {
-    const TriangleMesh& mesh = data_.meshes[meshIndex];
-    uint32_t i0 = mesh.indices[3 * tri], i1 = mesh.indices[3 * tri + 1], i2 = mesh.indices[3 * tri + 2];
-    float w = 1 - u - v;
-    hit.t = t;
-    hit.mesh = meshIndex;
-    hit.triangle = tri;
-    hit.barycentric = {u, v};
-    // The barycentric point is more accurate than o + t d, which matters for ray offsets.
-    hit.p = mesh.positions[i0] * w + mesh.positions[i1] * u + mesh.positions[i2] * v;
-    hit.ng = triangles_[meshes_[meshIndex].firstTriangle + tri].ng;
-    Vec3f ns = mesh.normals[i0] * w + mesh.normals[i1] * u + mesh.normals[i2] * v;
-    float nsLen = length(ns);
-    hit.ns = (nsLen > 0 && std::isfinite(nsLen)) ? faceForward(ns / nsLen, hit.ng) : hit.ng;
-}
-
 RenderScene::TextureCoordinates RenderScene::interpolateUv(uint32_t m, uint32_t tri, Vec3f w) const {
     const TriangleMesh& mesh = data_.meshes[m];
     const uint32_t* idx = &mesh.indices[3 * size_t(tri)];
@@ -274,20 +284,28 @@ Rgb RenderScene::emittedRadiance(const SurfaceHit& hit, Vec3f w) const {
     return evalEmission(materialOf(hit), data_.textures, textureCoordinates(hit).uv);
 }
 
-std::optional<LightSample> RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u) const {
+bool RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& s) const {
     const Light& light = lights_[size_t(lightIndex)];
     const auto* area = std::get_if<AreaLight>(&light);
-    if (!area) return samplePunctualLight(light, ref);
+    if (!area) {
+        auto punctual = samplePunctualLight(light, ref);
+        if (punctual) s = *punctual;
+        return punctual.has_value();
+    }
     Vec3f bary;
-    auto s = sampleAreaLight(*area, ref, u, bary);
-    if (!s) return std::nullopt;
+    if (!sampleAreaLight(*area, ref, u, s, bary)) return false;
     if (area->texturedEmission) {
         const Material& m = *meshes_[area->mesh].material;
-        s->radiance = evalEmission(m, data_.textures, interpolateUv(area->mesh, area->triangle, bary).uv);
+        s.radiance = evalEmission(m, data_.textures, interpolateUv(area->mesh, area->triangle, bary).uv);
     } else {
-        s->radiance = area->emission;
+        s.radiance = area->emission;
     }
-    if (isBlack(s->radiance)) return std::nullopt;
+    return !isBlack(s.radiance);
+}
+
+std::optional<LightSample> RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u) const {
+    LightSample s;
+    if (!sampleLight(lightIndex, ref, u, s)) return std::nullopt;
     return s;
 }
 

@@ -2,7 +2,8 @@
 // points, and the light list with its power-proportional selection distribution.
 //
 // Hit shading is on the path tracer's hot path, so what does not change per hit is prepared
-// once here: each triangle's unit geometric normal and area-light index, and each mesh's BSDF
+// once here: each triangle's unit geometric normal and area-light index (and its shading normal
+// when the three vertex normals agree, as on flat-shaded meshes), and each mesh's BSDF
 // lobe when its material has no texture that the BSDF reads (then a hit only builds the shading
 // frame). Texture coordinates are interpolated only for textured materials.
 #pragma once
@@ -63,6 +64,8 @@ public:
 
     /// Sample the light `lightIndex` as seen from ref; radiance includes textured emission.
     std::optional<LightSample> sampleLight(int lightIndex, Vec3f ref, Vec2f u) const;
+    /// The same sample written into `out`; false (out unspecified) when there is none.
+    bool sampleLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const;
     /// Solid-angle density at ref of sampleLight producing the area light point `hit`
     /// (light selection not included).
     float areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const;
@@ -77,14 +80,15 @@ private:
     };
     /// Per triangle, prepared once.
     struct TriangleInfo {
-        Vec3f ng;               // unit normal from the winding (zero for degenerate triangles)
-        int32_t areaLight = -1; // index into lights_, or -1
+        Vec3f ng;                // unit normal from the winding
+        int32_t areaLight = -1;  // index into lights_, or -1
+        Vec3f ns;                // the shading normal when `flat`
+        bool flat = false;       // the three vertex normals are equal: ns is the same everywhere
     };
 
     void prepareMeshes();
     void buildAccel();
     void buildLights();
-    void fillHit(uint32_t mesh, uint32_t tri, float u, float v, float t, SurfaceHit& hit) const;
     const TriangleInfo& triangleOf(const SurfaceHit& hit) const {
         return triangles_[meshes_[hit.mesh].firstTriangle + hit.triangle];
     }

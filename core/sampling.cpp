@@ -5,26 +5,6 @@
 
 namespace partita {
 
-Vec2f sampleConcentricDisk(Vec2f u) {
-    float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
-    if (ox == 0 && oy == 0) return {0, 0};
-    float r, theta;
-    if (std::abs(ox) > std::abs(oy)) {
-        r = ox;
-        theta = (kPi / 4) * (oy / ox);
-    } else {
-        r = oy;
-        theta = kPi / 2 - (kPi / 4) * (ox / oy);
-    }
-    return {r * std::cos(theta), r * std::sin(theta)};
-}
-
-Vec3f sampleCosineHemisphere(Vec2f u) {
-    Vec2f d = sampleConcentricDisk(u);
-    float z = safeSqrt(1 - d.x * d.x - d.y * d.y);
-    return {d.x, d.y, z};
-}
-
 Vec3f sampleUniformSphere(Vec2f u) {
     float z = 1 - 2 * u.x;
     float r = safeSqrt(1 - z * z);
@@ -37,24 +17,6 @@ Vec3f sampleUniformCone(Vec2f u, float cosThetaMax) {
     float sinTheta = safeSqrt(1 - cosTheta * cosTheta);
     float phi = 2 * kPi * u.y;
     return {std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta};
-}
-
-Vec2f sampleUniformTriangle(Vec2f u) {
-    float b0, b1;
-    if (u.x < u.y) {
-        b0 = u.x / 2;
-        b1 = u.y - b0;
-    } else {
-        b1 = u.y / 2;
-        b0 = u.x - b1;
-    }
-    return {b0, b1};
-}
-
-float sampleTent(float u) {
-    // Inverse CDF of the tent on [-1, 1], one half at a time.
-    if (u < 0.5f) return -1 + std::sqrt(2 * u);
-    return 1 - std::sqrt(2 - 2 * u);
 }
 
 Distribution1D::Distribution1D(std::span<const float> weights) {
@@ -74,10 +36,17 @@ Distribution1D::Distribution1D(std::span<const float> weights) {
 }
 
 uint32_t Distribution1D::sample(float u, float* uRemapped) const {
-    // Largest i with cdf_[i] <= u, skipping zero-probability entries.
-    auto it = std::upper_bound(cdf_.begin(), cdf_.end(), double(u));
-    size_t i = size_t(std::max<ptrdiff_t>(0, (it - cdf_.begin()) - 1));
-    i = std::min(i, pmf_.size() - 1);
+    // Largest i with cdf_[i] <= u (or 0), skipping zero-probability entries. A branchless binary
+    // search (the step is a conditional move): the index drawn is as good as random to a
+    // branch predictor. Invariant: the answer lies in [base, base + len).
+    const double x = u;
+    size_t base = 0, len = cdf_.size();
+    while (len > 1) {
+        size_t half = len / 2;
+        base = cdf_[base + half] <= x ? base + half : base;
+        len -= half;
+    }
+    size_t i = std::min(base, pmf_.size() - 1);
     while (pmf_[i] == 0 && i > 0) --i;
     while (pmf_[i] == 0 && i + 1 < pmf_.size()) ++i;
     if (uRemapped) {

@@ -50,7 +50,8 @@ grpc::Status TokenAuth::check(const grpc::ServerContextBase& context) const {
     for (size_t i = 0; bearer && i < kScheme.size(); ++i)
         bearer = std::tolower(static_cast<unsigned char>(value[i])) == kScheme[i];
     if (!bearer)
-        return {grpc::StatusCode::UNAUTHENTICATED, "the authorization metadata must be 'Bearer <token>'"};
+        return {grpc::StatusCode::UNAUTHENTICATED,
+                "the authorization metadata must be 'Bearer <token>'"};
     if (!constantTimeEquals(value.substr(kScheme.size()), token_))
         return {grpc::StatusCode::UNAUTHENTICATED, "invalid token"};
     return grpc::Status::OK;

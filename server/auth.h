@@ -15,7 +15,7 @@ namespace partita::server {
 bool constantTimeEquals(std::string_view given, std::string_view expected);
 
 class TokenAuth {
-public:
+  public:
     TokenAuth() = default;  // no token: every caller is accepted
     explicit TokenAuth(std::string token) : token_(std::move(token)) {}
 
@@ -27,7 +27,7 @@ public:
     /// OK, or UNAUTHENTICATED saying what is missing. Never echoes the token.
     grpc::Status check(const grpc::ServerContextBase& context) const;
 
-private:
+  private:
     std::string token_;
 };
 

@@ -13,7 +13,7 @@
 namespace partita::server {
 
 class Executor {
-public:
+  public:
     explicit Executor(int threads);
     ~Executor();  // runs what is queued, then joins
     Executor(const Executor&) = delete;
@@ -21,7 +21,7 @@ public:
 
     void post(std::function<void()> task);
 
-private:
+  private:
     void loop();
     std::mutex mutex_;
     std::condition_variable cv_;

@@ -8,11 +8,16 @@ namespace {
 
 int rank(pb::JobState s) {
     switch (s) {
-        case pb::JOB_STATE_QUEUED: return 0;
-        case pb::JOB_STATE_LOADING: return 1;
-        case pb::JOB_STATE_PREPASS: return 2;
-        case pb::JOB_STATE_RENDERING: return 3;
-        default: return 4;
+        case pb::JOB_STATE_QUEUED:
+            return 0;
+        case pb::JOB_STATE_LOADING:
+            return 1;
+        case pb::JOB_STATE_PREPASS:
+            return 2;
+        case pb::JOB_STATE_RENDERING:
+            return 3;
+        default:
+            return 4;
     }
 }
 
@@ -43,7 +48,8 @@ std::string stateName(pb::JobState s) {
 }
 
 int64_t nowUnixMs() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
         .count();
 }
 
@@ -79,8 +85,8 @@ pb::JobState Job::state() const {
     return record_.state();
 }
 
-bool Job::transition(pb::JobState next, const std::string& error, const Persist& persist, const std::string& note,
-                     const std::map<std::string, double>* stats) {
+bool Job::transition(pb::JobState next, const std::string& error, const Persist& persist,
+                     const std::string& note, const std::map<std::string, double>* stats) {
     std::lock_guard lock(mutex_);
     if (!allowed(record_.state(), next)) return false;
     pb::Job updated = record_;
@@ -100,7 +106,7 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
         updated.mutable_stats()->clear();
         for (const auto& [k, v] : *stats) (*updated.mutable_stats())[k] = v;
     }
-    if (persist) persist(updated, note);
+    if (persist) persist(*this, updated, note);
     record_ = std::move(updated);
     for (const auto& w : watchers_) w.watcher->onState(record_);
     if (isTerminal(next)) watchers_.clear();  // each watcher ends after the terminal state
@@ -137,7 +143,8 @@ void Job::publishFrame(LayeredImage image, bool final) {
 
 void Job::keepFinalFrameOnDisk(const std::filesystem::path& resultExr) {
     std::lock_guard lock(mutex_);
-    uint64_t sequence = latestFrame_ ? latestFrame_->sequence() : std::max<uint64_t>(frameCount_, 1);
+    uint64_t sequence =
+        latestFrame_ ? latestFrame_->sequence() : std::max<uint64_t>(frameCount_, 1);
     latestFrame_ = std::make_shared<const PreviewFrameData>(sequence, resultExr);
 }
 
@@ -145,11 +152,6 @@ void Job::requestCancel(CancelReason reason) {
     CancelReason none = CancelReason::None;
     cancelReason_.compare_exchange_strong(none, reason);
     cancel_.store(true);
-}
-
-void Job::clearCancel() {
-    cancelReason_.store(CancelReason::None);
-    cancel_.store(false);
 }
 
 grpc::Status Job::addWatcher(std::shared_ptr<JobWatcher> watcher, bool previews, int maxWatchers) {

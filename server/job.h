@@ -30,7 +30,7 @@ namespace partita::server {
 
 /// Receives a job's events. Called with the job's lock held: implementations only queue.
 class JobWatcher {
-public:
+  public:
     virtual ~JobWatcher() = default;
     virtual void onState(const pb::Job& job) = 0;
     virtual void onProgress(const pb::Progress& progress) = 0;
@@ -48,9 +48,10 @@ std::string stateName(pb::JobState state);
 int64_t nowUnixMs();
 
 class Job {
-public:
+  public:
     /// Persists a new record before it takes effect; throws to refuse it (e.g. disk error).
-    using Persist = std::function<void(const pb::Job& next, const std::string& note)>;
+    using Persist =
+        std::function<void(const Job& job, const pb::Job& next, const std::string& note)>;
 
     /// `record.spec` carries no scene bytes. `sequence` orders jobs of equal priority.
     Job(pb::Job record, int64_t sequence);
@@ -67,7 +68,8 @@ public:
     /// given, replaces its statistics. Times are kept: started on LOADING, finished on a terminal
     /// state. Throws what `persist` throws, leaving the job unchanged.
     bool transition(pb::JobState next, const std::string& error, const Persist& persist,
-                    const std::string& note = {}, const std::map<std::string, double>* stats = nullptr);
+                    const std::string& note = {},
+                    const std::map<std::string, double>* stats = nullptr);
 
     /// Records the progress; passes it to watchers at most every 0.25 s (and on a phase change).
     void publishProgress(const RenderProgress& progress);
@@ -77,12 +79,11 @@ public:
     /// so that finished jobs hold no images in memory.
     void keepFinalFrameOnDisk(const std::filesystem::path& resultExr);
 
+    /// Raises the cancel flag the render polls; the first reason given sticks.
     void requestCancel(CancelReason reason);
     CancelReason cancelReason() const { return cancelReason_.load(); }
     const std::atomic<bool>& cancelFlag() const { return cancel_; }
     bool cancelRequested() const { return cancel_.load(); }
-    /// Back to a fresh state before running again (after a shutdown re-queued it).
-    void clearCancel();
 
     /// Adds a watcher and immediately gives it the current state and the latest frame. A watcher
     /// of a finished job gets those and nothing more. RESOURCE_EXHAUSTED beyond `maxWatchers`.
@@ -94,7 +95,7 @@ public:
     /// "[job <id>]", the prefix of every log line about this job.
     std::string tag() const { return "[job " + id_ + "]"; }
 
-private:
+  private:
     struct WatcherEntry {
         std::shared_ptr<JobWatcher> watcher;
         bool previews;

@@ -24,7 +24,7 @@ struct CancelledWhileLoading {};
 
 /// Maps the algorithm's progress phases to job states and forwards progress and previews.
 class JobObserver : public RenderObserver {
-public:
+  public:
     JobObserver(Job& job, const Job::Persist& persist) : job_(job), persist_(persist) {}
 
     void onProgress(const RenderProgress& p) override {
@@ -35,20 +35,24 @@ public:
         job_.publishProgress(p);
     }
 
-    void onPreview(const LayeredImage& image, const RenderStats&) override { job_.publishFrame(image, false); }
+    void onPreview(const LayeredImage& image, const RenderStats&) override {
+        job_.publishFrame(image, false);
+    }
 
     /// Moves forward to `state` (no-op when already there or past it).
     void advance(pb::JobState state) {
         try {
             if (job_.transition(state, "", persist_))
-                spdlog::info("{} {}", job_.tag(), state == pb::JOB_STATE_PREPASS ? "pre-pass" : "rendering");
+                spdlog::info("{} {}", job_.tag(),
+                             state == pb::JOB_STATE_PREPASS ? "pre-pass" : "rendering");
         } catch (const std::exception& e) {
             // The render goes on; the state is recorded at the next transition that succeeds.
-            spdlog::error("{} could not record state {}: {}", job_.tag(), stateName(state), e.what());
+            spdlog::error("{} could not record state {}: {}", job_.tag(), stateName(state),
+                          e.what());
         }
     }
 
-private:
+  private:
     Job& job_;
     const Job::Persist& persist_;
 };
@@ -70,8 +74,15 @@ SceneData loadScene(const Job& job, const RunContext& ctx) {
     return SceneSource::loadUpload(upload, uint64_t(ctx.limits.maxUploadBytes));
 }
 
+/// A float as the shortest decimal that reads back as it (0.01f is 0.01, not 0.009999999776).
+double shortest(float v) {
+    return std::stod(fmt::format("{}", v));
+}
+
 std::string budgetKindName(BudgetKind k) {
-    return k == BudgetKind::SamplesPerPixel ? "spp" : k == BudgetKind::MutationsPerPixel ? "mpp" : "seconds";
+    return k == BudgetKind::SamplesPerPixel     ? "spp"
+           : k == BudgetKind::MutationsPerPixel ? "mpp"
+                                                : "seconds";
 }
 
 std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderResult& result) {
@@ -91,8 +102,8 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
                        {"max_depth", s.maxDepth},
                        {"k", s.partitions},
                        {"y", s.guideCandidates},
-                       {"radius", s.guideRadius},
-                       {"epsilon", s.guideEpsilon},
+                       {"radius", shortest(s.guideRadius)},
+                       {"epsilon", shortest(s.guideEpsilon)},
                        {"max_type_layers", s.maxTypeLayers},
                        {"preview_interval_seconds", s.previewIntervalSeconds},
                        {"priority", job.spec().priority()}};
@@ -112,7 +123,8 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
     return j.dump(2) + "\n";
 }
 
-void writeResults(const Job& job, const RunContext& ctx, const ValidatedSpec& v, const RenderResult& result) {
+void writeResults(const Job& job, const RunContext& ctx, const ValidatedSpec& v,
+                  const RenderResult& result) {
     fs::path dir = ctx.store.jobDir(job.id());
     fs::create_directories(dir);
     auto attributes = describeRender(v.algorithm, v.settings, result.stats);
@@ -129,9 +141,14 @@ void endUnfinished(Job& job, const Job::Persist& persist, const std::string& err
             job.transition(pb::JOB_STATE_FAILED, error, persist);
             spdlog::warn("{} failed: {}", job.tag(), error);
         } else if (job.cancelReason() == CancelReason::Shutdown) {
-            std::string note = "re-queued: partitad stopped while the job was " + stateName(job.state());
-            if (job.transition(pb::JOB_STATE_QUEUED, note, persist, note))
-                spdlog::info("{} re-queued (daemon shutting down); it runs again after restart", job.tag());
+            std::string note =
+                "re-queued: partitad stopped while the job was " + stateName(job.state());
+            pb::Job record = job.snapshot();
+            std::map<std::string, double> stats(record.stats().begin(), record.stats().end());
+            stats["requeued"] += 1;
+            if (job.transition(pb::JOB_STATE_QUEUED, note, persist, note, &stats))
+                spdlog::info("{} re-queued (daemon shutting down); it runs again after restart",
+                             job.tag());
         } else {
             job.transition(pb::JOB_STATE_CANCELLED, "", persist, "cancelled by a client");
             spdlog::info("{} cancelled", job.tag());
@@ -143,6 +160,11 @@ void endUnfinished(Job& job, const Job::Persist& persist, const std::string& err
 
 }  // namespace
 
+void removeUpload(const JobStore& store, const std::string& id) {
+    std::error_code ec;
+    fs::remove(store.jobDir(id) / kUploadFile, ec);
+}
+
 void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
     auto started = std::chrono::steady_clock::now();
     auto checkCancel = [&] {
@@ -152,7 +174,8 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         checkCancel();
         if (!job.transition(pb::JOB_STATE_LOADING, "", persist)) return;
         const pb::SceneSource& source = job.spec().scene();
-        spdlog::info("{} loading scene '{}'", job.tag(), source.has_scene_name() ? source.scene_name() : "upload");
+        spdlog::info("{} loading scene '{}'", job.tag(),
+                     source.has_scene_name() ? source.scene_name() : "upload");
         ValidatedSpec v;
         if (grpc::Status s = settingsFromSpec(job.spec(), ctx.limits, v); !s.ok())
             throw std::runtime_error(s.error_message());
@@ -163,11 +186,15 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         checkCancel();
 
         JobObserver observer(job, persist);
-        RenderResult result = runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        RenderResult result =
+            runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
         writeResults(job, ctx, v, result);
-        double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         std::map<std::string, double> stats = result.stats.values;
         stats["job_seconds"] = seconds;
+        if (auto before = job.snapshot(); before.stats().count("requeued"))
+            stats["requeued"] = before.stats().at("requeued");
         job.publishFrame(std::move(result.image), true);
         observer.advance(pb::JOB_STATE_RENDERING);
         job.transition(pb::JOB_STATE_DONE, "", persist, "", &stats);
@@ -183,6 +210,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         std::string msg = e.what();
         endUnfinished(job, persist, msg.empty() ? "unknown error" : msg);
     }
+    if (isTerminal(job.state())) removeUpload(ctx.store, job.id());
 }
 
 }  // namespace partita::server

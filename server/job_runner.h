@@ -7,8 +7,8 @@
 
 #include "job.h"
 #include "job_store.h"
-#include "limits.h"
 #include "scene_source.h"
+#include "service_limits.h"
 #include "thread_pool.h"
 
 namespace partita::server {
@@ -25,6 +25,10 @@ inline constexpr const char* kUploadFile = "scene.upload";
 inline constexpr const char* kResultExr = "result.exr";
 inline constexpr const char* kResultPng = "preview.png";
 inline constexpr const char* kResultMetadata = "metadata.json";
+
+/// Deletes a job's uploaded scene once the job has finished (it is kept only so that a queued or
+/// re-queued job can run after a restart).
+void removeUpload(const JobStore& store, const std::string& id);
 
 /// Runs `job` (which must be QUEUED) to the end. Never throws.
 void runJob(Job& job, const RunContext& context, const Job::Persist& persist);

@@ -19,7 +19,7 @@ namespace {
 
 /// One prepared statement, finalized on scope exit.
 class Statement {
-public:
+  public:
     Statement(sqlite3* db, const char* sql) : db_(db) {
         if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK)
             throw std::runtime_error(std::string("job store: ") + sqlite3_errmsg(db));
@@ -49,7 +49,7 @@ public:
         return p ? std::string(static_cast<const char*>(p), size_t(n)) : std::string();
     }
 
-private:
+  private:
     sqlite3* db_;
     sqlite3_stmt* stmt_ = nullptr;
 };
@@ -69,7 +69,8 @@ void bindJob(Statement& s, const StoredJob& j) {
 }
 
 int64_t nowMs() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
         .count();
 }
 
@@ -85,16 +86,20 @@ void fsyncPath(const fs::path& p, int flags) {
 JobStore::JobStore(const fs::path& dir) : dir_(dir) {
     std::error_code ec;
     fs::create_directories(dir_ / "jobs", ec);
-    if (ec) throw std::runtime_error("cannot create job store '" + dir_.string() + "': " + ec.message());
+    if (ec)
+        throw std::runtime_error("cannot create job store '" + dir_.string() +
+                                 "': " + ec.message());
     lockFd_ = ::open((dir_ / "lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (lockFd_ < 0)
-        throw std::runtime_error("cannot open '" + (dir_ / "lock").string() + "': " + std::strerror(errno));
+        throw std::runtime_error("cannot open '" + (dir_ / "lock").string() +
+                                 "': " + std::strerror(errno));
     if (::flock(lockFd_, LOCK_EX | LOCK_NB) != 0) {
         ::close(lockFd_);
         throw std::runtime_error("job store '" + dir_.string() + "' is in use by another partitad");
     }
     fs::path dbPath = dir_ / "jobs.db";
-    if (sqlite3_open_v2(dbPath.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+    if (sqlite3_open_v2(dbPath.c_str(), &db_,
+                        SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
                         nullptr) != SQLITE_OK) {
         std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
         sqlite3_close(db_);
@@ -155,7 +160,8 @@ void JobStore::exec(const char* sql) {
 std::vector<StoredJob> JobStore::loadAll() {
     std::lock_guard lock(mutex_);
     Statement s(db_,
-                "SELECT id, seq, state, priority, label, spec, error, created_ms, started_ms, finished_ms, stats "
+                "SELECT id, seq, state, priority, label, spec, error, created_ms, started_ms, "
+                "finished_ms, stats "
                 "FROM jobs ORDER BY seq");
     std::vector<StoredJob> jobs;
     while (s.step()) {
@@ -182,7 +188,9 @@ int64_t JobStore::nextSequence() {
 }
 
 void JobStore::writeTransition(const StoredJob& j, const std::string& note) {
-    Statement t(db_, "INSERT INTO transitions(job_id, state, at_ms, error, note) VALUES(?1, ?2, ?3, ?4, ?5)");
+    Statement t(
+        db_,
+        "INSERT INTO transitions(job_id, state, at_ms, error, note) VALUES(?1, ?2, ?3, ?4, ?5)");
     t.bindText(1, j.id);
     t.bind(2, int64_t(j.state));
     t.bind(3, nowMs());
@@ -196,7 +204,8 @@ void JobStore::insert(const StoredJob& j, const std::string& note) {
     exec("BEGIN IMMEDIATE");
     try {
         Statement s(db_,
-                    "INSERT INTO jobs(id, seq, state, priority, label, spec, error, created_ms, started_ms, "
+                    "INSERT INTO jobs(id, seq, state, priority, label, spec, error, created_ms, "
+                    "started_ms, "
                     "finished_ms, stats) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
         bindJob(s, j);
         s.step();
@@ -213,7 +222,8 @@ void JobStore::update(const StoredJob& j, const std::string& note) {
     exec("BEGIN IMMEDIATE");
     try {
         Statement s(db_,
-                    "UPDATE jobs SET seq=?2, state=?3, priority=?4, label=?5, spec=?6, error=?7, created_ms=?8, "
+                    "UPDATE jobs SET seq=?2, state=?3, priority=?4, label=?5, spec=?6, error=?7, "
+                    "created_ms=?8, "
                     "started_ms=?9, finished_ms=?10, stats=?11 WHERE id=?1");
         bindJob(s, j);
         s.step();
@@ -270,7 +280,8 @@ void JobStore::writeFileAtomic(const fs::path& path, std::string_view bytes) {
     fs::path tmp = path;
     tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
     int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
+    if (fd < 0)
+        throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
     const char* p = bytes.data();
     size_t left = bytes.size();
     while (left > 0) {

@@ -26,14 +26,14 @@ struct StoredJob {
     int state = 0;  // partita.v1.JobState
     int priority = 0;
     std::string label;
-    std::string spec;   // serialized partita.v1.JobSpec without scene bytes
+    std::string spec;  // serialized partita.v1.JobSpec without scene bytes
     std::string error;
     int64_t createdMs = 0, startedMs = 0, finishedMs = 0;
     std::string stats;  // JSON object: name -> number
 };
 
 class JobStore {
-public:
+  public:
     /// Opens (creating if needed) the store in `dir`. Throws std::runtime_error with one line
     /// when it cannot, or when another daemon holds it.
     explicit JobStore(const std::filesystem::path& dir);
@@ -63,7 +63,7 @@ public:
     /// Writes `bytes` to `path` atomically (temporary file, fsync, rename, fsync of the folder).
     static void writeFileAtomic(const std::filesystem::path& path, std::string_view bytes);
 
-private:
+  private:
     void exec(const char* sql);
     void writeTransition(const StoredJob& job, const std::string& note);
 

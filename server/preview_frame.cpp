@@ -1,13 +1,19 @@
 #include "preview_frame.h"
 
+#include <spdlog/spdlog.h>
+
+#include <chrono>
 #include <cstring>
 
 #include "image_io.h"
+#include "preview_png.h"
 
 namespace partita::server {
 
 PreviewFrameData::PreviewFrameData(uint64_t sequence, bool final, LayeredImage image)
-    : sequence_(sequence), final_(final), image_(std::make_shared<const LayeredImage>(std::move(image))) {}
+    : sequence_(sequence),
+      final_(final),
+      image_(std::make_shared<const LayeredImage>(std::move(image))) {}
 
 PreviewFrameData::PreviewFrameData(uint64_t sequence, std::filesystem::path resultExr)
     : sequence_(sequence), final_(true), exr_(std::move(resultExr)) {}
@@ -27,8 +33,6 @@ std::string rawBytes(const Image& image) {
     return bytes;
 }
 
-std::string toString(const std::vector<uint8_t>& v) { return std::string(v.begin(), v.end()); }
-
 }  // namespace
 
 pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
@@ -40,9 +44,16 @@ pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
     }
     if (pngs.empty()) {
         // Encoding outside the lock: two watchers racing at most encode twice, never block.
+        auto start = std::chrono::steady_clock::now();
         float exposure = autoExposure(img->combined);
-        pngs.push_back(toString(encodePng(img->combined, exposure)));
-        for (const auto& layer : img->layers) pngs.push_back(toString(encodePng(layer.image, exposure)));
+        pngs.push_back(encodePreviewPng(img->combined, exposure));
+        for (const auto& layer : img->layers)
+            pngs.push_back(encodePreviewPng(layer.image, exposure));
+        spdlog::debug(
+            "preview frame {}: {} PNGs of {}x{} in {:.1f} ms", sequence_, pngs.size(),
+            img->combined.width, img->combined.height,
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count());
         if (image_) {
             std::lock_guard lock(mutex_);
             if (!pngs_) pngs_ = pngs;
@@ -60,7 +71,8 @@ pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
         if (raw) layer->set_raw_rgb_f32(rawBytes(image));
     };
     addLayer("combined", img->combined, pngs[0]);
-    for (size_t i = 0; i < img->layers.size(); ++i) addLayer(img->layers[i].name, img->layers[i].image, pngs[i + 1]);
+    for (size_t i = 0; i < img->layers.size(); ++i)
+        addLayer(img->layers[i].name, img->layers[i].image, pngs[i + 1]);
     return frame;
 }
 

@@ -18,7 +18,7 @@
 namespace partita::server {
 
 class PreviewFrameData {
-public:
+  public:
     /// A frame held in memory (previews during the render, and the final image).
     PreviewFrameData(uint64_t sequence, bool final, LayeredImage image);
     /// The final frame of a finished job, read back from its result EXR when a watcher asks.
@@ -32,7 +32,7 @@ public:
     /// Throws std::runtime_error when a frame on disk cannot be read.
     pb::PreviewFrame encode(bool raw) const;
 
-private:
+  private:
     std::shared_ptr<const LayeredImage> image() const;  // loads a disk-backed frame
 
     uint64_t sequence_;

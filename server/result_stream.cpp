@@ -7,7 +7,7 @@ namespace partita::server {
 namespace {
 
 class ResultStream : public grpc::ServerWriteReactor<pb::ResultChunk> {
-public:
+  public:
     ResultStream(const std::filesystem::path& file, const grpc::Status& status) {
         if (!status.ok()) {
             Finish(status);
@@ -17,7 +17,8 @@ public:
         std::error_code ec;
         total_ = std::filesystem::file_size(file, ec);
         if (!in_ || ec) {
-            Finish({grpc::StatusCode::INTERNAL, "result file '" + file.filename().string() + "' cannot be read"});
+            Finish({grpc::StatusCode::INTERNAL,
+                    "result file '" + file.filename().string() + "' cannot be read"});
             return;
         }
         next();
@@ -32,7 +33,7 @@ public:
     }
     void OnDone() override { delete this; }
 
-private:
+  private:
     void next() {
         if (started_ && offset_ >= total_) {
             Finish(grpc::Status::OK);

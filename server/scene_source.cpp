@@ -14,7 +14,9 @@ bool isInside(const fs::path& path, const fs::path& root) {
     return r == root.end() && p != path.end();
 }
 
-std::vector<uint8_t> bytesOf(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
+std::vector<uint8_t> bytesOf(const std::string& s) {
+    return std::vector<uint8_t>(s.begin(), s.end());
+}
 
 }  // namespace
 
@@ -37,7 +39,8 @@ std::string SceneSource::checkName(const std::string& name) {
     return {};
 }
 
-fs::path SceneSource::resolve(const std::string& name, grpc::StatusCode& code, std::string& error) const {
+fs::path SceneSource::find(const std::string& name, grpc::StatusCode& code,
+                           std::string& error) const {
     if (std::string why = checkName(name); !why.empty()) {
         code = grpc::StatusCode::INVALID_ARGUMENT;
         error = "invalid scene name: " + why;
@@ -64,10 +67,19 @@ fs::path SceneSource::resolve(const std::string& name, grpc::StatusCode& code, s
         return real;
     }
     code = grpc::StatusCode::NOT_FOUND;
-    std::string names;
-    for (const auto& e : list()) names += (names.empty() ? "" : ", ") + e.name;
-    error = "no scene named '" + name + "' under the scene root (available: " + (names.empty() ? "none" : names) + ")";
+    error = "no scene named '" + name + "' under the scene root";
     return {};
+}
+
+fs::path SceneSource::resolve(const std::string& name, grpc::StatusCode& code,
+                              std::string& error) const {
+    fs::path file = find(name, code, error);
+    if (file.empty() && code == grpc::StatusCode::NOT_FOUND && !root_.empty()) {
+        std::string names;
+        for (const auto& e : list()) names += (names.empty() ? "" : ", ") + e.name;
+        error += " (available: " + (names.empty() ? std::string("none") : names) + ")";
+    }
+    return file;
 }
 
 std::vector<SceneEntry> SceneSource::list() const {
@@ -85,7 +97,7 @@ std::vector<SceneEntry> SceneSource::list() const {
     for (const auto& name : names) {
         grpc::StatusCode code;
         std::string error;
-        fs::path file = resolve(name, code, error);
+        fs::path file = find(name, code, error);
         if (file.empty()) continue;
         out.push_back({name, fs::relative(file, root_, ec).string()});
     }
@@ -102,13 +114,16 @@ SceneData SceneSource::loadNamed(const std::string& name) const {
 
 uint64_t SceneSource::uploadBytes(const pb::SceneSource& source) {
     switch (source.source_case()) {
-        case pb::SceneSource::kGlb: return source.glb().size();
+        case pb::SceneSource::kGlb:
+            return source.glb().size();
         case pb::SceneSource::kGltf: {
             uint64_t total = source.gltf().gltf().size();
-            for (const auto& r : source.gltf().resources()) total += r.data().size() + r.uri().size();
+            for (const auto& r : source.gltf().resources())
+                total += r.data().size() + r.uri().size();
             return total;
         }
-        default: return 0;
+        default:
+            return 0;
     }
 }
 
@@ -120,7 +135,8 @@ SceneData SceneSource::loadUpload(const pb::SceneSource& upload, uint64_t maxByt
     if (upload.source_case() == pb::SceneSource::kGltf) {
         std::map<std::string, std::vector<uint8_t>> files;
         for (const auto& r : upload.gltf().resources()) files[r.uri()] = bytesOf(r.data());
-        return loadGltfMemory(bytesOf(upload.gltf().gltf()), false, MemoryResolver(std::move(files)), limits);
+        return loadGltfMemory(bytesOf(upload.gltf().gltf()), false,
+                              MemoryResolver(std::move(files)), limits);
     }
     throw SceneLoadError("the job has no uploaded scene");
 }

@@ -21,7 +21,7 @@ struct SceneEntry {
 };
 
 class SceneSource {
-public:
+  public:
     /// `root` may be empty: then there are no named scenes.
     explicit SceneSource(const std::filesystem::path& root);
 
@@ -33,7 +33,8 @@ public:
     /// The file of the named scene. On failure returns an empty path with the gRPC code
     /// (INVALID_ARGUMENT for a malformed name or one escaping the root, NOT_FOUND for no such
     /// scene) and a message.
-    std::filesystem::path resolve(const std::string& name, grpc::StatusCode& code, std::string& error) const;
+    std::filesystem::path resolve(const std::string& name, grpc::StatusCode& code,
+                                  std::string& error) const;
 
     /// Scenes addressable by name: <root>/<name>/<name>.gltf|.glb and <root>/<name>.glb.
     std::vector<SceneEntry> list() const;
@@ -47,7 +48,11 @@ public:
     /// Total bytes of an upload (the glTF/GLB and every resource).
     static uint64_t uploadBytes(const pb::SceneSource& source);
 
-private:
+  private:
+    /// resolve() without the list of available scenes in the message.
+    std::filesystem::path find(const std::string& name, grpc::StatusCode& code,
+                               std::string& error) const;
+
     std::filesystem::path root_;  // canonical, or empty
 };
 

@@ -48,29 +48,36 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         ->capture_default_str();
     app.add_option("--store", o.store, "job store folder (SQLite database + one folder per job)")
         ->capture_default_str();
-    app.add_option("--scene-root", o.sceneRoot, "folder of named scenes (default: ./scenes if it exists)");
+    app.add_option("--scene-root", o.sceneRoot,
+                   "folder of named scenes (default: ./scenes if it exists)");
     app.add_option("--threads", o.threads, "render threads shared by all jobs (0: one per core)")
         ->capture_default_str();
-    app.add_option("--max-jobs", o.maxJobs, "jobs rendering at the same time")->capture_default_str();
+    app.add_option("--max-jobs", o.maxJobs, "jobs rendering at the same time")
+        ->capture_default_str();
     app.add_option("--tls-cert", o.tlsCert, "PEM certificate chain: serve TLS (with --tls-key)");
     app.add_option("--tls-key", o.tlsKey, "PEM private key of --tls-cert");
     app.add_option("--token-file", o.tokenFile,
                    "file holding the token clients must send as 'authorization: Bearer <token>'");
     app.add_flag("--insecure", o.insecure, "allow a non-loopback address without TLS and token");
     app.add_option("--port-file", o.portFile, "write the bound port to this file once listening");
-    app.add_option("--log-level", o.logLevel, "trace, debug, info, warn, error")->capture_default_str();
-    app.add_option("--max-width", o.limits.maxWidth, "largest image width")->capture_default_str();
-    app.add_option("--max-height", o.limits.maxHeight, "largest image height")->capture_default_str();
-    app.add_option("--max-spp", o.limits.maxSamplesPerPixel, "largest samples (or mutations) per pixel")
+    app.add_option("--log-level", o.logLevel, "trace, debug, info, warn, error")
         ->capture_default_str();
-    app.add_option("--max-seconds", o.limits.maxSeconds, "largest time budget, seconds")->capture_default_str();
+    app.add_option("--max-width", o.limits.maxWidth, "largest image width")->capture_default_str();
+    app.add_option("--max-height", o.limits.maxHeight, "largest image height")
+        ->capture_default_str();
+    app.add_option("--max-spp", o.limits.maxSamplesPerPixel,
+                   "largest samples (or mutations) per pixel")
+        ->capture_default_str();
+    app.add_option("--max-seconds", o.limits.maxSeconds, "largest time budget, seconds")
+        ->capture_default_str();
     app.add_option("--max-upload-mb", uploadMb, "largest uploaded scene (all its files), MiB")
         ->capture_default_str();
     app.add_option("--max-queued", o.limits.maxQueuedJobs, "most jobs waiting in the queue")
         ->capture_default_str();
     app.add_option("--max-watchers", o.limits.maxWatchersPerJob, "most watchers of one job")
         ->capture_default_str();
-    app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")->capture_default_str();
+    app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")
+        ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -102,14 +109,16 @@ std::string finalizeServerOptions(ServerOptions& o) {
     bool tls = !o.tlsCert.empty(), token = !o.tokenFile.empty();
     if (!isLoopbackAddress(o.listen) && !(tls && token) && !o.insecure)
         return "refusing to listen on non-loopback address '" + o.listen +
-               "' without TLS and a token: give --tls-cert, --tls-key and --token-file, or --insecure "
+               "' without TLS and a token: give --tls-cert, --tls-key and --token-file, or "
+               "--insecure "
                "to allow it anyway";
     if (o.sceneRoot.empty()) {
         std::error_code ec;
         if (fs::is_directory("scenes", ec)) o.sceneRoot = "scenes";
     } else {
         std::error_code ec;
-        if (!fs::is_directory(o.sceneRoot, ec)) return "--scene-root '" + o.sceneRoot.string() + "' is not a folder";
+        if (!fs::is_directory(o.sceneRoot, ec))
+            return "--scene-root '" + o.sceneRoot.string() + "' is not a folder";
     }
     return {};
 }

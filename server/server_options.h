@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "limits.h"
+#include "service_limits.h"
 
 namespace partita::server {
 
@@ -17,8 +17,8 @@ struct ServerOptions {
     int threads = 0;                  // render threads shared by all jobs; 0 = one per core
     int maxJobs = 2;                  // jobs rendering at the same time
     std::filesystem::path tlsCert, tlsKey, tokenFile;
-    bool insecure = false;            // allow a non-loopback address without TLS + token
-    std::filesystem::path portFile;   // where to write the bound port (use with port 0)
+    bool insecure = false;           // allow a non-loopback address without TLS + token
+    std::filesystem::path portFile;  // where to write the bound port (use with port 0)
     std::string logLevel = "info";
     ServiceLimits limits;
 };

@@ -1,5 +1,8 @@
 #include "validation.h"
 
+#include <google/protobuf/field_mask.pb.h>
+#include <google/protobuf/util/field_mask_util.h>
+
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -12,8 +15,12 @@ namespace partita::server {
 
 namespace {
 
-grpc::Status invalid(const std::string& message) { return {grpc::StatusCode::INVALID_ARGUMENT, message}; }
-grpc::Status exhausted(const std::string& message) { return {grpc::StatusCode::RESOURCE_EXHAUSTED, message}; }
+grpc::Status invalid(const std::string& message) {
+    return {grpc::StatusCode::INVALID_ARGUMENT, message};
+}
+grpc::Status exhausted(const std::string& message) {
+    return {grpc::StatusCode::RESOURCE_EXHAUSTED, message};
+}
 
 std::string num(double v) {
     std::ostringstream s;
@@ -23,15 +30,19 @@ std::string num(double v) {
 
 std::string algorithmList() {
     std::string names;
-    for (const auto& n : AlgorithmRegistry::instance().names()) names += (names.empty() ? "" : ", ") + n;
+    for (const auto& n : AlgorithmRegistry::instance().names())
+        names += (names.empty() ? "" : ", ") + n;
     return names;
 }
 
 const char* budgetUnit(BudgetKind k) {
     switch (k) {
-        case BudgetKind::SamplesPerPixel: return "samples per pixel";
-        case BudgetKind::MutationsPerPixel: return "mutations per pixel";
-        case BudgetKind::Seconds: return "seconds";
+        case BudgetKind::SamplesPerPixel:
+            return "samples per pixel";
+        case BudgetKind::MutationsPerPixel:
+            return "mutations per pixel";
+        case BudgetKind::Seconds:
+            return "seconds";
     }
     return "?";
 }
@@ -52,7 +63,8 @@ grpc::Status checkScene(const pb::SceneSource& scene, const ServiceLimits& limit
             std::set<std::string> seen;
             for (const auto& r : scene.gltf().resources()) {
                 if (std::string why = checkRelativeUri(r.uri()); !why.empty())
-                    return invalid("uploaded resource '" + printableUri(r.uri()) + "' refused: " + why);
+                    return invalid("uploaded resource '" + printableUri(r.uri()) +
+                                   "' refused: " + why);
                 if (!seen.insert(r.uri()).second)
                     return invalid("resource '" + printableUri(r.uri()) + "' is uploaded twice");
             }
@@ -61,24 +73,29 @@ grpc::Status checkScene(const pb::SceneSource& scene, const ServiceLimits& limit
     }
     uint64_t bytes = SceneSource::uploadBytes(scene);
     if (bytes > uint64_t(limits.maxUploadBytes))
-        return exhausted("the uploaded scene has " + std::to_string(bytes) + " bytes, over this server's limit of " +
+        return exhausted("the uploaded scene has " + std::to_string(bytes) +
+                         " bytes, over this server's limit of " +
                          std::to_string(limits.maxUploadBytes) + " (--max-upload-mb)");
     return grpc::Status::OK;
 }
 
 }  // namespace
 
-grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out) {
+grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
+                             ValidatedSpec& out) {
     if (grpc::Status s = checkScene(spec.scene(), limits); !s.ok()) return s;
     return settingsFromSpec(spec, limits, out);
 }
 
-grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out) {
+grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
+                              ValidatedSpec& out) {
     registerBuiltinAlgorithms();
 
     out.algorithm = spec.algorithm().empty() ? "pt" : spec.algorithm();
     const auto* entry = AlgorithmRegistry::instance().find(out.algorithm);
-    if (!entry) return invalid("unknown algorithm '" + out.algorithm + "' (this server has: " + algorithmList() + ")");
+    if (!entry)
+        return invalid("unknown algorithm '" + out.algorithm +
+                       "' (this server has: " + algorithmList() + ")");
 
     RenderSettings& s = out.settings;
     s = RenderSettings{};
@@ -93,29 +110,38 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
                        " is invalid: width and height must be >= 1");
     if (s.width > limits.maxWidth || s.height > limits.maxHeight)
         return exhausted("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                         " exceeds this server's limit of " + std::to_string(limits.maxWidth) + "x" +
-                         std::to_string(limits.maxHeight));
+                         " exceeds this server's limit of " + std::to_string(limits.maxWidth) +
+                         "x" + std::to_string(limits.maxHeight));
 
-    bool budgetSet = spec.has_budget() &&
-                     !(spec.budget().kind() == pb::BUDGET_KIND_UNSPECIFIED && spec.budget().amount() == 0);
+    bool budgetSet = spec.has_budget() && !(spec.budget().kind() == pb::BUDGET_KIND_UNSPECIFIED &&
+                                            spec.budget().amount() == 0);
     if (!budgetSet) {
         s.budgetKind = entry->nativeBudget;
         s.budget = 16;
     } else {
         int kind = spec.budget().kind();
-        if (!pb::BudgetKind_IsValid(kind)) return invalid("unknown budget kind " + std::to_string(kind));
+        if (!pb::BudgetKind_IsValid(kind))
+            return invalid("unknown budget kind " + std::to_string(kind));
         switch (kind) {
-            case pb::BUDGET_KIND_SAMPLES_PER_PIXEL: s.budgetKind = BudgetKind::SamplesPerPixel; break;
-            case pb::BUDGET_KIND_MUTATIONS_PER_PIXEL: s.budgetKind = BudgetKind::MutationsPerPixel; break;
-            case pb::BUDGET_KIND_SECONDS: s.budgetKind = BudgetKind::Seconds; break;
+            case pb::BUDGET_KIND_SAMPLES_PER_PIXEL:
+                s.budgetKind = BudgetKind::SamplesPerPixel;
+                break;
+            case pb::BUDGET_KIND_MUTATIONS_PER_PIXEL:
+                s.budgetKind = BudgetKind::MutationsPerPixel;
+                break;
+            case pb::BUDGET_KIND_SECONDS:
+                s.budgetKind = BudgetKind::Seconds;
+                break;
             default:
                 return invalid(
-                    "budget kind is unspecified: set samples per pixel, mutations per pixel or seconds");
+                    "budget kind is unspecified: set samples per pixel, mutations per pixel or "
+                    "seconds");
         }
         s.budget = spec.budget().amount();
         if (s.budgetKind != BudgetKind::Seconds && s.budgetKind != entry->nativeBudget)
-            return invalid("algorithm '" + out.algorithm + "' takes its budget in " + budgetUnit(entry->nativeBudget) +
-                           " or seconds, not " + budgetUnit(s.budgetKind));
+            return invalid("algorithm '" + out.algorithm + "' takes its budget in " +
+                           budgetUnit(entry->nativeBudget) + " or seconds, not " +
+                           budgetUnit(s.budgetKind));
         if (!std::isfinite(s.budget) || s.budget <= 0)
             return invalid("the budget must be a positive number, got " + num(s.budget));
         if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
@@ -136,21 +162,37 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (spec.has_preview_interval_seconds()) {
         double p = spec.preview_interval_seconds();
         if (!std::isfinite(p) || p < 0 || (p > 0 && p < 0.05))
-            return invalid("preview interval must be 0 (no previews) or at least 0.05 s, got " + num(p));
+            return invalid("preview interval must be 0 (no previews) or at least 0.05 s, got " +
+                           num(p));
         s.previewIntervalSeconds = p;
     }
-    if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty()) return invalid(err);
+    if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty())
+        return invalid(err);
     return grpc::Status::OK;
 }
 
 pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec) {
-    pb::JobSpec out = spec;
-    pb::SceneSource* scene = out.mutable_scene();
-    if (scene->has_glb()) {
-        scene->set_glb("");
-    } else if (scene->has_gltf()) {
-        scene->mutable_gltf()->clear_gltf();
-        for (auto& r : *scene->mutable_gltf()->mutable_resources()) r.clear_data();
+    // Every field but the scene, without copying the scene's bytes (uploads can be large).
+    static const google::protobuf::FieldMask allButScene = [] {
+        google::protobuf::FieldMask mask;
+        const auto* descriptor = pb::JobSpec::descriptor();
+        for (int i = 0; i < descriptor->field_count(); ++i)
+            if (descriptor->field(i)->number() != pb::JobSpec::kSceneFieldNumber)
+                mask.add_paths(descriptor->field(i)->name());
+        return mask;
+    }();
+    pb::JobSpec out;
+    google::protobuf::util::FieldMaskUtil::MergeMessageTo(spec, allButScene, {}, &out);
+    const pb::SceneSource& scene = spec.scene();
+    pb::SceneSource* echo = out.mutable_scene();
+    switch (scene.source_case()) {
+        case pb::SceneSource::kSceneName: echo->set_scene_name(scene.scene_name()); break;
+        case pb::SceneSource::kGlb: echo->set_glb(""); break;
+        case pb::SceneSource::kGltf:
+            for (const auto& r : scene.gltf().resources()) echo->mutable_gltf()->add_resources()->set_uri(r.uri());
+            echo->mutable_gltf();
+            break;
+        default: out.clear_scene(); break;
     }
     return out;
 }

@@ -9,9 +9,9 @@
 
 #include <string>
 
-#include "limits.h"
 #include "proto.h"
 #include "render_settings.h"
+#include "service_limits.h"
 
 namespace partita::server {
 
@@ -22,11 +22,13 @@ struct ValidatedSpec {
 
 /// The defaults of unset fields: algorithm "pt", the algorithm's native budget unit with 16 per
 /// pixel, RenderSettings' defaults for everything else.
-grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out);
+grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
+                             ValidatedSpec& out);
 
 /// validateJobSpec without the scene checks: for a stored spec (whose scene bytes live in the
 /// store) when the job runs.
-grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits, ValidatedSpec& out);
+grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
+                              ValidatedSpec& out);
 
 /// The spec as stored and echoed back: the scene bytes replaced by nothing (an upload keeps its
 /// oneof case and its resource names, so clients can still tell it was an upload).

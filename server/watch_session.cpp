@@ -5,7 +5,7 @@
 namespace partita::server {
 
 class WatchSession::StreamReactor : public grpc::ServerWriteReactor<pb::JobEvent> {
-public:
+  public:
     StreamReactor(std::shared_ptr<WatchSession> session, std::function<void()> onDone)
         : session_(std::move(session)), onDone_(std::move(onDone)) {}
     void OnWriteDone(bool ok) override { session_->writeDone(ok); }
@@ -16,7 +16,7 @@ public:
         delete this;
     }
 
-private:
+  private:
     std::shared_ptr<WatchSession> session_;
     std::function<void()> onDone_;
 };
@@ -63,7 +63,9 @@ void WatchSession::enqueue(Pending item) {
     if (item.kind == Pending::Progress) {
         std::erase_if(queue_, [](const Pending& p) { return p.kind == Pending::Progress; });
     } else if (item.kind == Pending::Frame) {
-        std::erase_if(queue_, [](const Pending& p) { return p.kind == Pending::Frame && !p.frame->isFinal(); });
+        std::erase_if(queue_, [](const Pending& p) {
+            return p.kind == Pending::Frame && !p.frame->isFinal();
+        });
     }
     queue_.push_back(std::move(item));
     scheduleLocked();
@@ -85,8 +87,10 @@ void WatchSession::pump() {
     if (cancelled_) {
         finishWith = grpc::Status::CANCELLED;
     } else if (queue_.empty()) {
-        if (terminalSent_) finishWith = grpc::Status::OK;
-        else if (closeStatus_) finishWith = *closeStatus_;
+        if (terminalSent_)
+            finishWith = grpc::Status::OK;
+        else if (closeStatus_)
+            finishWith = *closeStatus_;
     }
     if (finishWith) {
         finished_ = true;
@@ -111,7 +115,8 @@ void WatchSession::pump() {
             current_.set_job_id(jobId_);
             *current_.mutable_preview() = item.frame->encode(raw_);
         } catch (const std::exception& e) {
-            spdlog::warn("[job {}] preview frame {} not sent: {}", jobId_, item.frame->sequence(), e.what());
+            spdlog::warn("[job {}] preview frame {} not sent: {}", jobId_, item.frame->sequence(),
+                         e.what());
             lock.lock();
             busy_ = false;
             scheduleLocked();

@@ -25,7 +25,7 @@
 namespace partita::server {
 
 class WatchSession : public JobWatcher, public std::enable_shared_from_this<WatchSession> {
-public:
+  public:
     using Reactor = grpc::ServerWriteReactor<pb::JobEvent>;
 
     WatchSession(std::string jobId, bool raw, Executor& executor);
@@ -38,7 +38,7 @@ public:
     void onFrame(std::shared_ptr<const PreviewFrameData> frame) override;
     void onClose(const grpc::Status& status) override;
 
-private:
+  private:
     class StreamReactor;
     struct Pending {
         enum Kind { State, Progress, Frame } kind;
@@ -47,12 +47,12 @@ private:
         bool terminal = false;                          // a terminal state
     };
 
-    void enqueue(Pending item);                   // takes the lock
-    void scheduleLocked();                        // with the lock held
-    void pump();                                  // on the executor: send the next item or finish
-    void writeDone(bool ok);                      // reactor: OnWriteDone
-    void cancelled();                             // reactor: OnCancel
-    void done();                                  // reactor: OnDone
+    void enqueue(Pending item);  // takes the lock
+    void scheduleLocked();       // with the lock held
+    void pump();                 // on the executor: send the next item or finish
+    void writeDone(bool ok);     // reactor: OnWriteDone
+    void cancelled();            // reactor: OnCancel
+    void done();                 // reactor: OnDone
 
     const std::string jobId_;
     const bool raw_;
@@ -61,12 +61,12 @@ private:
     std::mutex mutex_;
     Reactor* reactor_ = nullptr;  // null after OnDone
     std::deque<Pending> queue_;
-    bool busy_ = false;           // a pump is scheduled or a write is in flight
-    bool finished_ = false;       // Finish was called (or the stream is done)
-    bool cancelled_ = false;      // the client went away
+    bool busy_ = false;       // a pump is scheduled or a write is in flight
+    bool finished_ = false;   // Finish was called (or the stream is done)
+    bool cancelled_ = false;  // the client went away
     bool terminalSent_ = false;
     std::optional<grpc::Status> closeStatus_;
-    pb::JobEvent current_;        // the message being written (owned by the busy holder)
+    pb::JobEvent current_;  // the message being written (owned by the busy holder)
 };
 
 }  // namespace partita::server

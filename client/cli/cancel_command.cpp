@@ -1,7 +1,11 @@
 // partita --server HOST:PORT cancel JOB
-// Prints "job ID: <state>" (cancelled, or the state it had already ended in).
+// Prints "job ID: <state>": cancelled, or the state it had already ended in. A running job
+// stops at the render's next cancellation point, so the command waits up to 10 s for the final
+// state ("cancelling" if it has not arrived by then).
+#include <chrono>
 #include <cstdio>
 #include <memory>
+#include <thread>
 
 #include "cli/commands.h"
 #include "cli/job_format.h"
@@ -15,9 +19,17 @@ int runCancel(const GlobalOptions& global, const std::string& jobId) {
     Session session(global);
     partita::v1::CancelJobRequest request;
     request.set_job_id(jobId);
-    partita::v1::Job job = session.connection().call(&Connection::Stub::CancelJob, request,
-                                                     "cancel job " + jobId);
-    std::printf("job %s: %s\n", jobId.c_str(), stateName(job.state()).c_str());
+    partita::v1::Job job =
+        session.connection().call(&Connection::Stub::CancelJob, request, "cancel job " + jobId);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!isTerminal(job.state()) && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        partita::v1::GetJobRequest get;
+        get.set_job_id(jobId);
+        job = session.connection().call(&Connection::Stub::GetJob, get, "look up job " + jobId);
+    }
+    std::printf("job %s: %s\n", jobId.c_str(),
+                isTerminal(job.state()) ? stateName(job.state()).c_str() : "cancelling");
     return 0;
 }
 

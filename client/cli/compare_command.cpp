@@ -6,9 +6,9 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "cli/exr_reader.h"
 #include "cli/image_metrics.h"
 #include "cli/table.h"
-#include "image_io.h"
 
 namespace partita::cli {
 
@@ -21,11 +21,11 @@ struct CompareArgs {
 };
 
 int runCompare(const CompareArgs& a) {
-    const LayeredImage reference = readExr(a.reference);
+    const LayeredImage reference = readExrFile(a.reference);
     Table table(a.layers ? std::vector<std::string>{"image", "layer", "rmse", "relmse"}
                          : std::vector<std::string>{"image", "rmse", "relmse"});
     for (const auto& path : a.images) {
-        const LayeredImage image = readExr(path);
+        const LayeredImage image = readExrFile(path);
         ErrorMetrics m;
         try {
             m = compareImages(image.combined, reference.combined);

@@ -45,8 +45,20 @@ std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const Ser
 Connection::Connection(const std::string& address, const ServerOptions& opts)
     : address_(address),
       token_(opts.tokenFile.empty() ? std::string() : readTokenFile(opts.tokenFile)),
+      tls_(!opts.tlsCa.empty()),
       channel_(makeChannel(address, opts)),
       stub_(partita::v1::Partita::NewStub(channel_)) {}
+
+void Connection::fail(const grpc::Status& status, const std::string& what) const {
+    // A TLS server closes a plain connection at once: say what probably went wrong.
+    if (!tls_ && status.error_code() == grpc::StatusCode::UNAVAILABLE &&
+        status.error_message().find("Socket closed") != std::string::npos) {
+        grpc::Status hinted(status.error_code(),
+                            status.error_message() + " (a TLS server? pass --tls-ca)");
+        throwStatus(hinted, what, address_);
+    }
+    throwStatus(status, what, address_);
+}
 
 void Connection::prepare(grpc::ClientContext& context, double deadlineSeconds) const {
     if (!token_.empty()) context.AddMetadata("authorization", "Bearer " + token_);

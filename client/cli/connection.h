@@ -9,15 +9,15 @@
 #include <string>
 
 #include "cli/errors.h"
-#include "partita/v1/partita.grpc.pb.h"
+#include "cli/proto.h"
 
 namespace partita::cli {
 
 /// The global options that say how to reach a server.
 struct ServerOptions {
-    std::string server;     // HOST:PORT; empty = start a private daemon
-    std::string tokenFile;  // bearer token, sent as "authorization: Bearer <token>"
-    std::string tlsCa;      // PEM roots; set = TLS
+    std::string server;         // HOST:PORT; empty = start a private daemon
+    std::string tokenFile;      // bearer token, sent as "authorization: Bearer <token>"
+    std::string tlsCa;          // PEM roots; set = TLS
     std::string tlsServerName;  // override of the name checked in the server's certificate
 };
 
@@ -28,7 +28,7 @@ std::string readTokenFile(const std::string& path);
 std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts);
 
 class Connection {
-public:
+  public:
     using Stub = partita::v1::Partita::Stub;
 
     /// `address` HOST:PORT. Reads the token and CA files now (so a bad path fails early).
@@ -49,12 +49,16 @@ public:
         prepare(context, deadlineSeconds);
         Resp response;
         grpc::Status status = ((*stub_).*method)(&context, request, &response);
-        if (!status.ok()) throwStatus(status, what);
+        if (!status.ok()) fail(status, what);
         return response;
     }
 
-private:
+    /// throwStatus with this connection's address.
+    [[noreturn]] void fail(const grpc::Status& status, const std::string& what) const;
+
+  private:
     std::string address_, token_;
+    bool tls_ = false;
     std::shared_ptr<grpc::Channel> channel_;
     std::unique_ptr<Stub> stub_;
 };

@@ -13,13 +13,13 @@ namespace partita::cli {
 /// A failure the CLI reports and exits on. `code` is the gRPC status code name
 /// ("INVALID_ARGUMENT") when a call failed, else empty.
 class CliError : public std::runtime_error {
-public:
+  public:
     explicit CliError(const std::string& message, std::string code = {}, int exitCode = 1)
         : std::runtime_error(message), code_(std::move(code)), exitCode_(exitCode) {}
     const std::string& code() const { return code_; }
     int exitCode() const { return exitCode_; }
 
-private:
+  private:
     std::string code_;
     int exitCode_;
 };
@@ -29,8 +29,9 @@ std::string statusCodeName(grpc::StatusCode code);
 
 /// Throws a CliError for a failed call: `what` says what was attempted ("submit job"), the
 /// server's message follows, the code goes in parentheses. Unreachable servers get a message
-/// that says so.
-[[noreturn]] void throwStatus(const grpc::Status& status, const std::string& what);
+/// that says so (naming `address` when given).
+[[noreturn]] void throwStatus(const grpc::Status& status, const std::string& what,
+                              const std::string& address = {});
 
 /// One line: newlines and trailing whitespace of `s` collapsed to single spaces.
 std::string oneLine(const std::string& s);

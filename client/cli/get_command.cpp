@@ -10,6 +10,8 @@
 
 namespace partita::cli {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 struct GetArgs {
@@ -18,7 +20,7 @@ struct GetArgs {
 
 int runGet(const GlobalOptions& global, const GetArgs& a) {
     requireServer(global, "get");
-    const std::filesystem::path out = a.out.empty() ? safeFileName(a.job) + ".exr" : a.out;
+    const fs::path out = a.out.empty() ? fs::path(safeFileName(a.job) + ".exr") : fs::path(a.out);
     requireOutputFolder(out);
     Session session(global);
     Connection& conn = session.connection();
@@ -26,9 +28,9 @@ int runGet(const GlobalOptions& global, const GetArgs& a) {
     request.set_job_id(a.job);
     partita::v1::Job job = conn.call(&Connection::Stub::GetJob, request, "look up job " + a.job);
     if (job.state() != partita::v1::JOB_STATE_DONE)
-        throw CliError("job " + a.job + " is " + stateName(job.state()) +
-                           "; results exist once it is done",
-                       "FAILED_PRECONDITION");
+        throw CliError(
+            "job " + a.job + " is " + stateName(job.state()) + "; results exist once it is done",
+            "FAILED_PRECONDITION");
     ResultFiles files = downloadResults(conn, a.job, out);
     if (!global.quiet)
         std::fprintf(stderr, "wrote %s, %s and %s\n", files.exr.c_str(), files.png.c_str(),

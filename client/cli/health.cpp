@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "grpc/health/v1/health.grpc.pb.h"
+#include "health.grpc.pb.h"
 
 namespace partita::cli {
 
@@ -17,8 +17,8 @@ HealthResult checkHealth(const std::shared_ptr<grpc::Channel>& channel, const st
     grpc::health::v1::HealthCheckResponse response;
     HealthResult result;
     result.status = stub->Check(&context, request, &response);
-    result.serving = result.status.ok() &&
-                     response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
+    result.serving =
+        result.status.ok() && response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
     return result;
 }
 

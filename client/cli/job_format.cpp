@@ -11,14 +11,22 @@ namespace partita::cli {
 std::string stateName(partita::v1::JobState state) {
     using namespace partita::v1;
     switch (state) {
-        case JOB_STATE_QUEUED: return "queued";
-        case JOB_STATE_LOADING: return "loading";
-        case JOB_STATE_PREPASS: return "prepass";
-        case JOB_STATE_RENDERING: return "rendering";
-        case JOB_STATE_DONE: return "done";
-        case JOB_STATE_FAILED: return "failed";
-        case JOB_STATE_CANCELLED: return "cancelled";
-        default: return "unknown";
+        case JOB_STATE_QUEUED:
+            return "queued";
+        case JOB_STATE_LOADING:
+            return "loading";
+        case JOB_STATE_PREPASS:
+            return "prepass";
+        case JOB_STATE_RENDERING:
+            return "rendering";
+        case JOB_STATE_DONE:
+            return "done";
+        case JOB_STATE_FAILED:
+            return "failed";
+        case JOB_STATE_CANCELLED:
+            return "cancelled";
+        default:
+            return "unknown";
     }
 }
 

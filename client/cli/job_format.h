@@ -4,7 +4,7 @@
 #include <string>
 
 #include "algorithm.h"
-#include "partita/v1/partita.pb.h"
+#include "cli/proto.h"
 
 namespace partita::cli {
 

@@ -69,8 +69,11 @@ std::string validateJobSpec(const partita::v1::JobSpec& spec) {
             case partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL:
                 s.budgetKind = BudgetKind::MutationsPerPixel;
                 break;
-            case partita::v1::BUDGET_KIND_SECONDS: s.budgetKind = BudgetKind::Seconds; break;
-            default: return "unknown budget kind";
+            case partita::v1::BUDGET_KIND_SECONDS:
+                s.budgetKind = BudgetKind::Seconds;
+                break;
+            default:
+                return "unknown budget kind";
         }
         s.budget = spec.budget().amount();
     }

@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/proto.h"
 #include "frontend/render_options.h"
-#include "partita/v1/partita.pb.h"
 
 namespace partita::cli {
 

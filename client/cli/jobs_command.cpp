@@ -13,10 +13,13 @@ namespace {
 
 std::string sceneText(const partita::v1::JobSpec& spec) {
     switch (spec.scene().source_case()) {
-        case partita::v1::SceneSource::kSceneName: return spec.scene().scene_name();
+        case partita::v1::SceneSource::kSceneName:
+            return spec.scene().scene_name();
         case partita::v1::SceneSource::kGlb:
-        case partita::v1::SceneSource::kGltf: return "upload";
-        default: return "-";
+        case partita::v1::SceneSource::kGltf:
+            return "upload";
+        default:
+            return "-";
     }
 }
 

@@ -64,7 +64,8 @@ fs::path findSceneRoot() {
     }
     const fs::path dir = executableDir();
     if (!dir.empty()) {
-        for (const fs::path& p : {dir / ".." / ".." / "scenes", dir / ".." / "share" / "partita" / "scenes"})
+        for (const fs::path& p :
+             {dir / ".." / ".." / "scenes", dir / ".." / "share" / "partita" / "scenes"})
             if (isDirectory(p)) return fs::weakly_canonical(p);
     }
 #ifdef PARTITA_SOURCE_SCENES_DIR

@@ -27,7 +27,8 @@ namespace {
 
 fs::path makeTempDir() {
     const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = (tmp && *tmp ? std::string(tmp) : std::string("/tmp")) + "/partita-XXXXXX";
+    std::string pattern =
+        (tmp && *tmp ? std::string(tmp) : std::string("/tmp")) + "/partita-XXXXXX";
     std::vector<char> buf(pattern.begin(), pattern.end());
     buf.push_back('\0');
     if (!::mkdtemp(buf.data()))
@@ -55,7 +56,9 @@ PrivateDaemon::PrivateDaemon(const Options& options) {
     }
 }
 
-PrivateDaemon::~PrivateDaemon() { stop(); }
+PrivateDaemon::~PrivateDaemon() {
+    stop();
+}
 
 void PrivateDaemon::start(const Options& options) {
     const fs::path partitad = findPartitad();
@@ -68,9 +71,9 @@ void PrivateDaemon::start(const Options& options) {
         fs::create_directory(sceneRoot);
     }
 
-    std::vector<std::string> args = {partitad.string(), "--listen", "127.0.0.1:0",
-                                     "--port-file", portFile.string(), "--store", store.string(),
-                                     "--scene-root", sceneRoot.string()};
+    std::vector<std::string> args = {partitad.string(), "--listen",        "127.0.0.1:0",
+                                     "--port-file",     portFile.string(), "--store",
+                                     store.string(),    "--scene-root",    sceneRoot.string()};
     if (options.threads > 0) {
         args.push_back("--threads");
         args.push_back(std::to_string(options.threads));

@@ -18,9 +18,9 @@
 namespace partita::cli {
 
 class PrivateDaemon {
-public:
+  public:
     struct Options {
-        int threads = 0;         // 0: partitad's default
+        int threads = 0;  // 0: partitad's default
         double startTimeoutSeconds = 30;
     };
 
@@ -35,7 +35,7 @@ public:
     /// Stops the daemon and removes its folder; idempotent.
     void stop();
 
-private:
+  private:
     void start(const Options& options);
     std::string lastLogLine() const;
 

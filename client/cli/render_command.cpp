@@ -27,15 +27,19 @@ struct RenderArgs {
 int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
     const SceneArgument scene = classifyScene(a.scene);
     if (a.detach && global.server.server.empty())
-        throw CliError("--detach needs --server HOST:PORT (a private daemon stops when the "
-                       "command returns)");
+        throw CliError(
+            "--detach needs --server HOST:PORT (a private daemon stops when the "
+            "command returns)");
     partita::v1::JobSpec spec = makeJobSpec(sub, a.flags);
     *spec.mutable_scene() = loadSceneSource(scene);  // reads and checks files before anything runs
 
-    const fs::path out = a.out.empty() ? fs::path(safeFileName(sceneStem(scene)) + ".exr") : a.out;
+    const fs::path out =
+        a.out.empty() ? fs::path(safeFileName(sceneStem(scene)) + ".exr") : fs::path(a.out);
     if (!a.detach) requireOutputFolder(out);
     WatchOptions watch;
-    watch.progressBar = watch.announceStates = !global.quiet;
+    watch.progressBar = !global.quiet;
+    // State lines only on a terminal: in logs and scripts, a failure stays one line.
+    watch.announceStates = !global.quiet && ProgressBar::stderrIsTerminal();
     if (!a.previews.empty() && !a.detach) {
         std::error_code ec;
         fs::create_directories(a.previews, ec);

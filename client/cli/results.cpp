@@ -29,7 +29,8 @@ std::string fetchResult(Connection& connection, const std::string& jobId,
         data.replace(chunk.offset(), chunk.data().size(), chunk.data());
     }
     grpc::Status status = reader->Finish();
-    if (!status.ok()) throwStatus(status, std::string("fetch the ") + what + " of job " + jobId);
+    if (!status.ok())
+        connection.fail(status, std::string("fetch the ") + what + " of job " + jobId);
     if (total != 0 && data.size() != total)
         throw CliError(std::string("fetch the ") + what + " of job " + jobId + ": got " +
                        std::to_string(data.size()) + " of " + std::to_string(total) + " bytes");

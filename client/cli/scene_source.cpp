@@ -24,7 +24,9 @@ std::string lower(std::string s) {
     return s;
 }
 
-bool isDataUri(const std::string& uri) { return lower(uri.substr(0, 5)) == "data:"; }
+bool isDataUri(const std::string& uri) {
+    return lower(uri.substr(0, 5)) == "data:";
+}
 
 /// Every uri of buffers and images that is not a data: URI, in file order, without repeats.
 std::vector<std::string> externalUris(const json& doc) {
@@ -106,8 +108,7 @@ std::string percentDecode(const std::string& uri) {
             if (c >= 'A' && c <= 'F') return c - 'A' + 10;
             return -1;
         };
-        if (i + 2 >= uri.size())
-            throw CliError("malformed %-escape in uri '" + uri + "'");
+        if (i + 2 >= uri.size()) throw CliError("malformed %-escape in uri '" + uri + "'");
         int hi = hex(uri[i + 1]), lo = hex(uri[i + 2]);
         if (hi < 0 || lo < 0) throw CliError("malformed %-escape in uri '" + uri + "'");
         out += char(hi * 16 + lo);

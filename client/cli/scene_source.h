@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "partita/v1/partita.pb.h"
+#include "cli/proto.h"
 
 namespace partita::cli {
 

@@ -23,7 +23,7 @@ void Session::checkAlgorithm(const std::string& algorithm) {
     grpc::Status status =
         connection_->stub().GetServerInfo(&context, partita::v1::ServerInfoRequest{}, &info);
     if (status.error_code() == grpc::StatusCode::UNIMPLEMENTED) return;
-    if (!status.ok()) throwStatus(status, "");
+    if (!status.ok()) connection_->fail(status, "");
     if (info.algorithms().empty()) return;
     std::string known;
     for (const auto& a : info.algorithms()) {
@@ -36,7 +36,8 @@ void Session::checkAlgorithm(const std::string& algorithm) {
 
 void requireServer(const GlobalOptions& global, const std::string& command) {
     if (global.server.server.empty())
-        throw CliError(command + " needs --server HOST:PORT (without it, a private daemon with "
+        throw CliError(command +
+                       " needs --server HOST:PORT (without it, a private daemon with "
                        "no jobs would be started)");
 }
 

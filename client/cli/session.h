@@ -17,7 +17,7 @@ struct GlobalOptions {
 };
 
 class Session {
-public:
+  public:
     /// `threads` is passed to a private daemon (ignored with --server).
     Session(const GlobalOptions& global, int threads = 0);
     ~Session();
@@ -29,7 +29,7 @@ public:
     /// before anything is uploaded. Throws CliError(..., "INVALID_ARGUMENT").
     void checkAlgorithm(const std::string& algorithm);
 
-private:
+  private:
     std::unique_ptr<PrivateDaemon> daemon_;
     std::unique_ptr<Connection> connection_;
 };

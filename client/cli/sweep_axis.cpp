@@ -2,8 +2,8 @@
 
 #include <cctype>
 #include <cerrno>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <set>
 
@@ -21,10 +21,9 @@ struct Param {
 };
 
 constexpr Param kParams[] = {
-    {"y", Kind::Int},       {"radius", Kind::Real}, {"k", Kind::Int},
-    {"epsilon", Kind::Real}, {"spp", Kind::Real},   {"mpp", Kind::Real},
-    {"seconds", Kind::Real}, {"max-depth", Kind::Int}, {"seed", Kind::UInt},
-    {"width", Kind::Int},    {"height", Kind::Int},
+    {"y", Kind::Int},     {"radius", Kind::Real}, {"k", Kind::Int},        {"epsilon", Kind::Real},
+    {"spp", Kind::Real},  {"mpp", Kind::Real},    {"seconds", Kind::Real}, {"max-depth", Kind::Int},
+    {"seed", Kind::UInt}, {"width", Kind::Int},   {"height", Kind::Int},
 };
 
 const Param* findParam(const std::string& name) {
@@ -39,8 +38,12 @@ bool parseNumber(const std::string& s, Kind kind, double* real, long long* integ
     char* end = nullptr;
     errno = 0;
     switch (kind) {
-        case Kind::Real: *real = std::strtod(s.c_str(), &end); break;
-        case Kind::Int: *integer = std::strtoll(s.c_str(), &end, 10); break;
+        case Kind::Real:
+            *real = std::strtod(s.c_str(), &end);
+            break;
+        case Kind::Int:
+            *integer = std::strtoll(s.c_str(), &end, 10);
+            break;
         case Kind::UInt:
             if (s.front() == '-') return false;
             *uinteger = std::strtoull(s.c_str(), &end, 10);
@@ -78,7 +81,8 @@ SweepAxis parseSweepAxis(const std::string& text) {
     size_t start = 0;
     while (true) {
         size_t comma = list.find(',', start);
-        std::string v = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        std::string v =
+            list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         double r;
         long long i;
         unsigned long long u;
@@ -94,7 +98,8 @@ SweepAxis parseSweepAxis(const std::string& text) {
     return axis;
 }
 
-void applySweepValue(partita::v1::JobSpec& spec, const std::string& name, const std::string& value) {
+void applySweepValue(partita::v1::JobSpec& spec, const std::string& name,
+                     const std::string& value) {
     const Param* param = findParam(name);
     double r = 0;
     long long i = 0;
@@ -105,17 +110,28 @@ void applySweepValue(partita::v1::JobSpec& spec, const std::string& name, const 
         spec.mutable_budget()->set_kind(kind);
         spec.mutable_budget()->set_amount(r);
     };
-    if (name == "y") spec.set_y(int32_t(i));
-    else if (name == "radius") spec.set_radius(float(r));
-    else if (name == "k") spec.set_k(int32_t(i));
-    else if (name == "epsilon") spec.set_epsilon(float(r));
-    else if (name == "spp") budget(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
-    else if (name == "mpp") budget(partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL);
-    else if (name == "seconds") budget(partita::v1::BUDGET_KIND_SECONDS);
-    else if (name == "max-depth") spec.set_max_depth(int32_t(i));
-    else if (name == "seed") spec.set_seed(u);
-    else if (name == "width") spec.set_width(int32_t(i));
-    else if (name == "height") spec.set_height(int32_t(i));
+    if (name == "y")
+        spec.set_y(int32_t(i));
+    else if (name == "radius")
+        spec.set_radius(float(r));
+    else if (name == "k")
+        spec.set_k(int32_t(i));
+    else if (name == "epsilon")
+        spec.set_epsilon(float(r));
+    else if (name == "spp")
+        budget(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
+    else if (name == "mpp")
+        budget(partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    else if (name == "seconds")
+        budget(partita::v1::BUDGET_KIND_SECONDS);
+    else if (name == "max-depth")
+        spec.set_max_depth(int32_t(i));
+    else if (name == "seed")
+        spec.set_seed(u);
+    else if (name == "width")
+        spec.set_width(int32_t(i));
+    else if (name == "height")
+        spec.set_height(int32_t(i));
 }
 
 }  // namespace partita::cli

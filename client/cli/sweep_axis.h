@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "partita/v1/partita.pb.h"
+#include "cli/proto.h"
 
 namespace partita::cli {
 

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "cli/commands.h"
+#include "cli/exr_reader.h"
 #include "cli/file_util.h"
 #include "cli/image_metrics.h"
 #include "cli/job_format.h"
@@ -19,7 +20,6 @@
 #include "cli/sweep_axis.h"
 #include "cli/table.h"
 #include "cli/watch.h"
-#include "image_io.h"
 
 namespace partita::cli {
 
@@ -64,7 +64,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     if (base.label().empty()) base.set_label("sweep:" + sceneStem(scene));
 
     LayeredImage reference;
-    if (!a.reference.empty()) reference = readExr(a.reference);
+    if (!a.reference.empty()) reference = readExrFile(a.reference);
     const fs::path outDir =
         a.outDir.empty() ? fs::path("sweep-" + safeFileName(sceneStem(scene))) : fs::path(a.outDir);
     std::error_code ec;
@@ -103,7 +103,8 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
         for (auto& c : cells) {
             partita::v1::SubmitJobRequest request;
             *request.mutable_spec() = c.spec;
-            c.id = conn.call(&Connection::Stub::SubmitJob, request, "submit sweep job", 300).job_id();
+            c.id =
+                conn.call(&Connection::Stub::SubmitJob, request, "submit sweep job", 300).job_id();
         }
         WatchOptions quiet;
         quiet.progressBar = quiet.announceStates = false;
@@ -115,7 +116,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
             if (!global.quiet) {
                 std::string point;
                 for (size_t k = 0; k < axes.size(); ++k)
-                    point += (k ? " " : "") + axes[k].name + "=" + c.values[k];
+                    point += std::string(k ? " " : "") + axes[k].name + "=" + c.values[k];
                 std::fprintf(stderr, "[%zu/%zu] %s: %s (%s)\n", finished, cells.size(),
                              point.c_str(), stateName(c.job.state()).c_str(),
                              formatNumber(c.seconds).c_str());
@@ -142,7 +143,8 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
             downloadResults(conn, c.id, c.file);
             if (!a.reference.empty()) {
                 try {
-                    ErrorMetrics m = compareImages(readExr(c.file).combined, reference.combined);
+                    ErrorMetrics m =
+                        compareImages(readExrFile(c.file).combined, reference.combined);
                     c.rmse = m.rmse;
                     c.relMse = m.relMse;
                 } catch (const CliError&) {

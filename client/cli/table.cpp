@@ -38,7 +38,10 @@ std::string Table::csv() const {
     };
     std::string out;
     auto line = [&](const std::vector<std::string>& cells) {
-        for (size_t c = 0; c < cells.size(); ++c) out += (c ? "," : "") + field(cells[c]);
+        for (size_t c = 0; c < cells.size(); ++c) {
+            if (c) out += ',';
+            out += field(cells[c]);
+        }
         out += "\n";
     };
     line(headers_);

@@ -9,7 +9,7 @@
 namespace partita::cli {
 
 class Table {
-public:
+  public:
     explicit Table(std::vector<std::string> headers) : headers_(std::move(headers)) {}
     void addRow(std::vector<std::string> cells);
     size_t rows() const { return rows_.size(); }
@@ -17,7 +17,7 @@ public:
     /// RFC 4180: fields with a comma, quote or newline are quoted.
     std::string csv() const;
 
-private:
+  private:
     std::vector<std::string> headers_;
     std::vector<std::vector<std::string>> rows_;
 };

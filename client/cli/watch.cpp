@@ -86,7 +86,8 @@ partita::v1::Job followJob(Connection& connection, const std::string& jobId,
                         if (!options.previewsDir.empty())
                             writePreviewFrame(options.previewsDir, event.preview());
                         break;
-                    default: break;
+                    default:
+                        break;
                 }
             }
         } catch (...) {
@@ -101,7 +102,7 @@ partita::v1::Job followJob(Connection& connection, const std::string& jobId,
         if (options.progressBar) bar.finish();
         if (interrupted()) throw CliError("interrupted", "", 130);
         if (haveState && isTerminal(last.state())) return last;
-        if (!status.ok()) throwStatus(status, "watch job " + jobId);
+        if (!status.ok()) connection.fail(status, "watch job " + jobId);
 
         // The stream ended without a final state: look the job up, and watch again if needed.
         partita::v1::GetJobRequest get;
@@ -129,12 +130,16 @@ void cancelJobQuietly(Connection& connection, const std::string& jobId) {
 
 void requireDone(const partita::v1::Job& job) {
     switch (job.state()) {
-        case partita::v1::JOB_STATE_DONE: return;
+        case partita::v1::JOB_STATE_DONE:
+            return;
         case partita::v1::JOB_STATE_FAILED:
-            throw CliError("job " + job.id() + " failed: " +
-                           (job.error().empty() ? std::string("no reason given") : oneLine(job.error())));
-        case partita::v1::JOB_STATE_CANCELLED: throw CliError("job " + job.id() + " was cancelled");
-        default: throw CliError("job " + job.id() + " is " + stateName(job.state()) + ", not done");
+            throw CliError(
+                "job " + job.id() + " failed: " +
+                (job.error().empty() ? std::string("no reason given") : oneLine(job.error())));
+        case partita::v1::JOB_STATE_CANCELLED:
+            throw CliError("job " + job.id() + " was cancelled");
+        default:
+            throw CliError("job " + job.id() + " is " + stateName(job.state()) + ", not done");
     }
 }
 

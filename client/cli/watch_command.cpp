@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/job_format.h"
 #include "cli/watch.h"
+#include "frontend/progress_bar.h"
 
 namespace partita::cli {
 
@@ -21,7 +22,9 @@ struct WatchArgs {
 int runWatch(const GlobalOptions& global, const WatchArgs& a) {
     requireServer(global, "watch");
     WatchOptions watch;
-    watch.progressBar = watch.announceStates = !global.quiet;
+    watch.progressBar = !global.quiet;
+    // State lines only on a terminal: in logs and scripts, a failure stays one line.
+    watch.announceStates = !global.quiet && ProgressBar::stderrIsTerminal();
     if (!a.previews.empty()) {
         std::error_code ec;
         fs::create_directories(a.previews, ec);

@@ -1,5 +1,7 @@
 #include "gltf/camera_select.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "gltf/gltf_loader.h"
@@ -11,10 +13,13 @@ int selectCamera(const SceneData& scene, const std::string& name) {
     for (size_t i = 0; i < scene.cameras.size(); ++i)
         if (scene.cameras[i].name == name) return int(i);
     std::string available;
-    for (const CameraDesc& cam : scene.cameras)
-        available += (available.empty() ? "" : ", ") + ("'" + printableUri(cam.name) + "'");
-    throw SceneLoadError("unknown camera '" + printableUri(name) + "'; available: " +
-                         (available.empty() ? "none (the scene has no cameras)" : available));
+    for (const CameraDesc& cam : scene.cameras) {
+        if (!available.empty()) available += ", ";
+        available += fmt::format("'{}'", printableUri(cam.name));
+    }
+    if (available.empty()) available = "none (the scene has no cameras)";
+    throw SceneLoadError(
+        fmt::format("unknown camera '{}'; available: {}", printableUri(name), available));
 }
 
 CameraDesc defaultCamera(const SceneData& scene) {

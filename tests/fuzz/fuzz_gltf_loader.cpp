@@ -20,6 +20,7 @@ partita::GltfLoadLimits fuzzLimits() {
     limits.maxFileBytes = uint64_t(1) << 22;
     limits.maxTriangles = 1 << 16;
     limits.maxTexturePixels = 1 << 16;
+    limits.maxTotalTexturePixels = 1 << 20;
     limits.maxNodeDepth = 64;
     return limits;
 }

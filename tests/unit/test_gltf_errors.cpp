@@ -90,6 +90,16 @@ TEST(GltfErrors, FileLargerThanTheLimit) {
     EXPECT_MENTIONS(bytesError(textBytes(quadScene().embedded().dump()), false, limits), "limit");
 }
 
+TEST(GltfErrors, MainFileMissingOrLargerThanTheLimit) {
+    TempDir dir;
+    auto file = dir.write("scene.gltf", textBytes(quadScene().embedded().dump()));
+    GltfLoadLimits limits;
+    limits.maxFileBytes = 64;
+    EXPECT_MENTIONS(errorOf([&] { loadGltfFile(file, limits); }), "more than the limit of 64");
+    EXPECT_MENTIONS(errorOf([&] { loadGltfFile(dir.path() / "absent.gltf"); }), "cannot open");
+    EXPECT_MENTIONS(errorOf([&] { loadGltfFile(dir.path()); }), "not a regular file");
+}
+
 TEST(GltfErrors, TinygltfParseErrorsAreOneLine) {
     GltfBuilder b = quadScene();
     json doc = b.embedded();

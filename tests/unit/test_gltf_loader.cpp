@@ -427,6 +427,21 @@ TEST(GltfAccessors, SparseSubstitutionOverBufferView) {
     expectNear(s.meshes[0].positions[1], {1, 0, 0});
 }
 
+TEST(GltfAccessors, SparseIndices) {
+    // Indices {0, 1, 2, 0, 1, 2} with entry 4 replaced by 2 and entry 5 by 3: (0 1 2) (0 2 3).
+    SceneData s = loadPrimitive([](GltfBuilder& b) {
+        json p = quadPrimitive(b, true);
+        p["indices"] = b.indices<uint16_t>({0, 1, 2, 0, 1, 2});
+        int idx = p["indices"];
+        b.doc["accessors"][idx]["sparse"] = {
+            {"count", 2},
+            {"indices", {{"bufferView", b.view({4, 5, 0, 0})}, {"componentType", kUByte}}},
+            {"values", {{"bufferView", b.view(bytesOf(std::vector<uint16_t>{2, 3}))}}}};
+        return p;
+    });
+    EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+}
+
 TEST(GltfAccessors, SparseWithoutBufferViewStartsFromZeros) {
     SceneData s = loadPrimitive([](GltfBuilder& b) {
         int pos = b.accessor(-1, kFloat, 3, "VEC3");

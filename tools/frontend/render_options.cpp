@@ -1,7 +1,5 @@
 #include "frontend/render_options.h"
 
-#include "algorithm.h"
-
 namespace partita {
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
@@ -24,32 +22,6 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
     app.add_option("--layers", s.maxTypeLayers, "path-type layers kept in the EXR before 'other'")
         ->capture_default_str();
     app.add_option("--threads", o.threads, "worker threads (0 = all)")->capture_default_str();
-}
-
-std::string finalizeRenderOptions(RenderOptions& o) {
-    registerBuiltinAlgorithms();
-    const auto* entry = AlgorithmRegistry::instance().find(o.algorithm);
-    if (!entry) {
-        std::string known;
-        for (const auto& n : AlgorithmRegistry::instance().names()) known += (known.empty() ? "" : ", ") + n;
-        return "unknown algorithm '" + o.algorithm + "' (available: " + known + ")";
-    }
-    RenderSettings& s = o.settings;
-    if (o.spp) {
-        s.budgetKind = BudgetKind::SamplesPerPixel;
-        s.budget = *o.spp;
-    } else if (o.mpp) {
-        s.budgetKind = BudgetKind::MutationsPerPixel;
-        s.budget = *o.mpp;
-    } else if (o.seconds) {
-        s.budgetKind = BudgetKind::Seconds;
-        s.budget = *o.seconds;
-    } else {
-        s.budgetKind = entry->nativeBudget;
-        s.budget = 16;
-    }
-    if (o.threads < 0 || o.threads > 4096) return "threads must be in 0..4096";
-    return validateSettings(s);
 }
 
 }  // namespace partita

@@ -11,7 +11,8 @@ namespace partita {
 class FilmSink {
 public:
     FilmSink(Film& film, int x, int y) : film_(film), x_(x), y_(y) {}
-    void add(const PathContribution& c) { film_.addSample(x_, y_, c.type, c.value); }
+    void add(PathType type, Rgb value) { film_.addSample(x_, y_, type, value); }
+    void add(const PathContribution& c) { add(c.type, c.value); }
 
 private:
     Film& film_;

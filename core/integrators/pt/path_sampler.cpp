@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bsdf.h"
+#include "bsdfs/bound_bsdf.h"
 #include "integrators/pt/film_sink.h"
 #include "render_scene.h"
 
@@ -57,20 +58,38 @@ public:
             Bsdf bsdf = scene_.bsdfAt(hit);
             bool delta = bsdf.isDelta();
             PathType typeHere = state_.type.withVertex(delta);
-            Vec3f wo = -normalize(ray.d);
-            if (!delta) addNextEvent(hit, bsdf, wo, typeHere);
-            if (!continuePath(hit, bsdf, wo, typeHere, ray, depth)) return;
+            BoundBsdf bound(bsdf, -normalize(ray.d));
+            RayOrigins origins(hit.p, hit.ng);
+            // The point on a light and the continuation are both sampled before either is used
+            // (drawing the random numbers in the same order, light first): the two are
+            // independent, so the processor overlaps their chains of divisions and square roots
+            // instead of waiting for each in turn.
+            LightSample light;
+            int lightIndex = delta ? -1 : sampleNextEvent(hit, light);
+            float uc = rng_.nextFloat();
+            Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
+            BsdfSample bs;
+            bool continues = bound.sample(uc, u, bs);
+            if (lightIndex >= 0) addNextEvent(hit, bound, origins, light, lightIndex, typeHere);
+            if (!continues || !continuePath(hit, bs, origins, typeHere, ray, depth)) return;
         }
     }
 
 private:
     void report(PathType type, Rgb value, bool viaNextEvent) {
-        PathContribution c;
-        c.type = type;
-        c.value = value;
-        c.index = state_.contributions++;
-        c.viaNextEvent = viaNextEvent;
-        sink_.add(c);
+        int index = state_.contributions++;
+        if constexpr (requires { sink_.add(type, value); }) {
+            // A sink that needs only type and value (FilmSink) gets them without a
+            // PathContribution assembled in memory and read back at once.
+            sink_.add(type, value);
+        } else {
+            PathContribution c;
+            c.type = type;
+            c.value = value;
+            c.index = index;
+            c.viaNextEvent = viaNextEvent;
+            sink_.add(c);
+        }
     }
 
     /// Emission seen by a BSDF-sampled (or camera) ray, MIS-weighted against light sampling.
@@ -87,42 +106,49 @@ private:
         report(state_.type, state_.beta * le * weight, false);
     }
 
-    /// Next-event estimation: one light chosen by power, one point on it.
-    void addNextEvent(const SurfaceHit& hit, const Bsdf& bsdf, Vec3f wo, PathType typeHere) {
-        if (!scene_.hasLights()) return;
+    /// Next-event estimation, first half: one light chosen by power, one point on it. Returns
+    /// the light's index, or -1 when there is nothing to connect to.
+    int sampleNextEvent(const SurfaceHit& hit, LightSample& ls) {
+        if (!scene_.hasLights()) return -1;
         float uLight = rng_.nextFloat();
         Vec2f uPoint{rng_.nextFloat(), rng_.nextFloat()};
         int light = int(scene_.lightSelection().sample(uLight));
-        auto ls = scene_.sampleLight(light, hit.p, uPoint);
-        if (!ls || ls->pdf <= 0) return;
-        Rgb f = bsdf.eval(wo, ls->wi) * absDot(ls->wi, hit.ns);
-        if (isBlack(f)) return;
-        ++counters_.rays;
-        if (scene_.occluded(spawnShadowRay(hit.p, hit.ng, ls->point, ls->normal))) return;
-        float lightPdf = scene_.lightSelectionPmf(light) * ls->pdf;
-        float weight = ls->isDelta ? 1.0f : powerHeuristic(lightPdf, bsdf.pdf(wo, ls->wi));
-        report(typeHere, state_.beta * f * ls->radiance * (weight / lightPdf), true);
+        if (!scene_.sampleLight(light, hit.p, uPoint, ls) || ls.pdf <= 0) return -1;
+        return light;
     }
 
-    /// Samples the BSDF for the next direction; false when the path ends here.
-    bool continuePath(const SurfaceHit& hit, const Bsdf& bsdf, Vec3f wo, PathType typeHere, Ray& ray, int depth) {
-        float uc = rng_.nextFloat();
-        Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
-        auto bs = bsdf.sample(wo, uc, u);
-        if (!bs || bs->pdf <= 0) return false;
-        state_.beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdf);
+    /// Next-event estimation, second half: the BSDF, visibility and the MIS-weighted
+    /// contribution of the sampled light point.
+    void addNextEvent(const SurfaceHit& hit, const BoundBsdf& bsdf, RayOrigins& origins, const LightSample& ls,
+                      int light, PathType typeHere) {
+        // The pdf is needed only if the light is visible, but with f it costs little more.
+        BoundBsdf::Value b = bsdf.evalPdf(ls.wi);
+        Rgb f = b.f * absDot(ls.wi, hit.ns);
+        if (isBlack(f)) return;
+        ++counters_.rays;
+        Ray shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
+        if (scene_.occluded(shadow)) return;
+        float lightPdf = scene_.lightSelectionPmf(light) * ls.pdf;
+        float weight = ls.isDelta ? 1.0f : powerHeuristic(lightPdf, b.pdf);
+        report(typeHere, state_.beta * f * ls.radiance * (weight / lightPdf), true);
+    }
+
+    /// Follows the sampled BSDF direction; false when the path ends here.
+    bool continuePath(const SurfaceHit& hit, const BsdfSample& bs, RayOrigins& origins, PathType typeHere, Ray& ray,
+                      int depth) {
+        state_.beta *= bs.f * (absDot(bs.wi, hit.ns) / bs.pdf);
         if (isBlack(state_.beta) || !isFinite(state_.beta)) return false;
         state_.type = typeHere;
         state_.prevPoint = hit.p;
-        state_.prevBsdfPdf = bs->pdf;
-        state_.prevSpecular = bs->isDelta;
-        if (bs->isTransmission) {
-            state_.etaScale *= sqr(bs->eta);
+        state_.prevBsdfPdf = bs.pdf;
+        state_.prevSpecular = bs.isDelta;
+        if (bs.isTransmission) {
+            state_.etaScale *= sqr(bs.eta);
             // Entering when the new direction goes against the outward normal.
-            state_.mediumAbsorption = dot(bs->wi, hit.ng) < 0 ? absorptionOf(scene_.materialOf(hit)) : Rgb(0.0f);
+            state_.mediumAbsorption = dot(bs.wi, hit.ng) < 0 ? absorptionOf(scene_.materialOf(hit)) : Rgb(0.0f);
         }
         if (!russianRoulette(depth)) return false;
-        ray = spawnRay(hit.p, hit.ng, bs->wi);
+        ray = {origins.towards(bs.wi), bs.wi, kInf};  // spawnRay(hit.p, hit.ng, wi)
         return true;
     }
 

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include "camera.h"
 #include "film.h"
@@ -47,9 +48,11 @@ public:
             ctx_.throwIfCancelled();
             uint64_t begin = sppDone_, end = std::min(targetSpp, sppDone_ + passSpp);
             auto passStart = std::chrono::steady_clock::now();
+            std::clock_t passCpuStart = std::clock();
             renderPass({begin, end}, progress);
             double passSeconds = secondsSince(passStart);
             renderSeconds_ += passSeconds;
+            renderCpuSeconds_ += double(std::clock() - passCpuStart) / CLOCKS_PER_SEC;
             sppDone_ = end;
             double elapsed = secondsSince(start);
             if (timed && elapsed >= s.budget) break;
@@ -113,7 +116,10 @@ private:
         st.values["rays"] = double(rays_.load());
         st.values["seconds"] = seconds;
         // Only the passes: no setup, previews or final resolve (the ray rate of the sampling).
+        // The CPU time (of the whole process, so summed over threads) does not count time when
+        // the threads were not running, for rates measured on a busy machine.
         st.values["render_seconds"] = renderSeconds_;
+        st.values["render_cpu_seconds"] = renderCpuSeconds_;
         st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
         st.values["path_types"] = double(film_.typeCount());
         st.values["dropped_samples"] = double(film_.droppedSamples());
@@ -124,7 +130,8 @@ private:
     Film film_;
     PathSamplerSettings samplerSettings_;
     uint64_t sppDone_ = 0;
-    double renderSeconds_ = 0;  // sum of the passes' wall-clock times
+    double renderSeconds_ = 0;     // sum of the passes' wall-clock times
+    double renderCpuSeconds_ = 0;  // and of their process CPU times
     std::atomic<uint64_t> rays_{0};
 };
 

@@ -1,4 +1,4 @@
-#include "limits.h"
+#include "service_limits.h"
 
 namespace partita::server {
 

@@ -1,0 +1,184 @@
+"""The Python client against a real partitad (started once for the suite by LocalDaemon).
+
+Run: PYTHONPATH=<build>/python:client/python PARTITA_PARTITAD=<build>/server/partitad \
+     /usr/bin/python3 -m unittest discover -s client/python/tests
+(ctest runs it as partita-client-python with exactly that environment.)
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+CLIENT_DIR = HERE.parent
+sys.path.insert(0, str(CLIENT_DIR))
+
+from partita_client import (Client, LocalDaemon, PartitaError, PreviewEvent,  # noqa: E402
+                            ProgressEvent, StateEvent, read_exr, rel_mse, rmse)
+
+REPO = CLIENT_DIR.parents[1]
+SCENES = Path(os.environ.get("PARTITA_SCENE_ROOT", REPO / "scenes"))
+CORNELL = SCENES / "cornell" / "cornell.gltf"
+TINY = dict(width=32, height=24, spp=2)
+
+
+class ClientTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.daemon = LocalDaemon(scene_root=SCENES, threads=2)
+        cls.client = Client(cls.daemon.address)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.daemon.stop()
+
+    def test_submit_watch_result(self):
+        job = self.client.submit(CORNELL, algorithm="pt", label="py-basic", **TINY)
+        events = list(self.client.watch(job, previews=True))
+        self.assertIsInstance(events[0], StateEvent)
+        states = [e.job.state for e in events if isinstance(e, StateEvent)]
+        self.assertEqual(states[-1], "done", states)
+        self.assertTrue(all(e.progress.unit for e in events if isinstance(e, ProgressEvent)))
+        previews = [e for e in events if isinstance(e, PreviewEvent)]
+        if previews:  # a frame carries PNGs, not raw pixels unless asked
+            self.assertIn("combined", previews[-1].layers)
+            self.assertTrue(previews[-1].layers["combined"].png.startswith(b"\x89PNG"))
+            self.assertIsNone(previews[-1].layers["combined"].rgb)
+
+        layers = self.client.result(job)
+        self.assertEqual(next(iter(layers)), "combined")
+        self.assertGreater(len(layers), 1)
+        for name, img in layers.items():
+            self.assertEqual(img.shape, (24, 32, 3), name)
+            self.assertEqual(img.dtype, np.float32, name)
+            self.assertTrue(np.all(np.isfinite(img)), name)
+        combined = layers["combined"]
+        self.assertGreater(float(combined.mean()), 0.0)
+        total = sum(img for name, img in layers.items() if name != "combined")
+        np.testing.assert_allclose(total, combined, rtol=1e-4, atol=1e-5)
+
+        info = self.client.job(job)
+        self.assertEqual(info.state, "done")
+        self.assertEqual(info.label, "py-basic")
+        self.assertEqual(info.scene, "upload")
+        self.assertIsNotNone(info.seconds)
+        meta = self.client.metadata(job)
+        self.assertIsInstance(meta, dict)
+
+    def test_raw_final_preview_matches_result(self):
+        job = self.client.submit("cornell", **TINY)
+        frames = [e for e in self.client.watch(job, previews=True, raw=True)
+                  if isinstance(e, PreviewEvent)]
+        self.assertTrue(frames, "no preview frame at all")
+        final = [f for f in frames if f.final]
+        self.assertTrue(final, "no final frame")
+        raw = final[-1].layers["combined"].rgb
+        self.assertEqual(raw.shape, (24, 32, 3))
+        np.testing.assert_allclose(raw, self.client.result(job)["combined"], rtol=1e-6, atol=1e-7)
+
+    def test_scene_by_name_and_wait(self):
+        job = self.client.submit("cornell", seed=3, max_depth=2, **TINY)
+        done = self.client.wait(job)
+        self.assertEqual(done.state, "done")
+        self.assertEqual(done.scene, "cornell")
+
+    def test_cancel(self):
+        job = self.client.submit("cornell", width=32, height=24, seconds=60, label="py-cancel")
+        self.client.cancel(job)
+        final = self.client.wait(job, timeout=30)
+        self.assertEqual(final.state, "cancelled")
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.result(job)
+        self.assertEqual(ctx.exception.code, "FAILED_PRECONDITION")
+
+    def test_jobs(self):
+        a = self.client.submit("cornell", label="py-jobs", **TINY)
+        b = self.client.submit("cornell", label="py-jobs", **TINY)
+        self.client.wait(a)
+        self.client.wait(b)
+        listed = self.client.jobs(label="py-jobs")
+        self.assertEqual(sorted(j.id for j in listed), sorted([a, b]))
+        self.assertTrue(all(j.state == "done" and j.algorithm == "pt" for j in listed))
+        self.assertTrue(all(j.state == "done" for j in self.client.jobs(states=["done"])))
+        self.assertIn("pt", self.client.algorithms())
+        self.assertIn("cornell", self.client.scenes())
+        self.assertTrue(self.client.server_info().version)
+
+    def test_errors(self):
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.submit("cornell", algorithm="nosuch", **TINY)
+        self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.job("nosuchjob")
+        self.assertEqual(ctx.exception.code, "NOT_FOUND")
+        with self.assertRaises(PartitaError):
+            self.client.submit(SCENES / "missing.gltf")
+        with self.assertRaises(ValueError):
+            self.client.submit("cornell", colour=3)
+        with self.assertRaises(ValueError):
+            self.client.submit("cornell", spp=1, mpp=2)
+        with Client("127.0.0.1:1", timeout=5) as down:
+            with self.assertRaises(PartitaError) as ctx:
+                down.jobs()
+            self.assertEqual(ctx.exception.code, "UNAVAILABLE")
+
+    def test_refuses_uri_outside_scene_folder(self):
+        with tempfile.TemporaryDirectory() as d:
+            (Path(d) / "secret.bin").write_bytes(b"x")
+            (Path(d) / "s").mkdir()
+            scene = Path(d) / "s" / "evil.gltf"
+            scene.write_text('{"asset":{"version":"2.0"},"buffers":[{"byteLength":1,'
+                             '"uri":"../secret.bin"}]}')
+            with self.assertRaisesRegex(PartitaError, "outside"):
+                self.client.submit(scene, **TINY)
+
+    def test_metrics(self):
+        r = np.zeros((2, 2, 3), np.float32)
+        self.assertAlmostEqual(rmse(r + 0.5, r), 0.5, places=6)
+        self.assertAlmostEqual(rel_mse(r + 0.1, r), 1.0, places=5)
+
+    def test_sweep_script(self):
+        with tempfile.TemporaryDirectory() as d:
+            out = Path(d) / "sweep"
+            cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",
+                   self.daemon.address, "--algorithm", "pt", "--param1", "spp=1,2",
+                   "--param2", "max-depth=1,3", "--set", "width=32", "--set", "height=24",
+                   "--reference-spp", "8", "--out-dir", str(out), "-q"]
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            with open(out / "sweep.csv") as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual([(r["spp"], r["max-depth"]) for r in rows],
+                             [("1", "1"), ("1", "3"), ("2", "1"), ("2", "3")])
+            for r in rows:
+                self.assertEqual(r["state"], "done")
+                self.assertEqual(r["algorithm"], "pt")
+                self.assertGreater(float(r["rmse"]), 0.0)
+                self.assertGreater(float(r["relmse"]), 0.0)
+                self.assertGreaterEqual(float(r["seconds"]), 0.0)
+            for png in ("grid.png", "rmse.png"):
+                self.assertTrue((out / png).read_bytes().startswith(b"\x89PNG"), png)
+            ref = read_exr(out / "reference.exr").layers()["combined"]
+            self.assertEqual(ref.shape, (24, 32, 3))
+            self.assertTrue((out / "renders" / "spp=2_max-depth=3.exr").is_file())
+
+    def test_sweep_script_bad_input(self):
+        cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",
+               self.daemon.address, "--param1", "spp=1,x", "--reference-spp", "4"]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn("sweep.py: error:", proc.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

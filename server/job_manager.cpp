@@ -1,0 +1,290 @@
+#include "job_manager.h"
+
+#include <spdlog/spdlog.h>
+
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "job_runner.h"
+#include "validation.h"
+
+namespace partita::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+StoredJob toStored(const pb::Job& j, int64_t sequence) {
+    StoredJob s;
+    s.id = j.id();
+    s.sequence = sequence;
+    s.state = int(j.state());
+    s.priority = j.spec().priority();
+    s.label = j.spec().label();
+    s.spec = j.spec().SerializeAsString();
+    s.error = j.error();
+    s.createdMs = j.created_unix_ms();
+    s.startedMs = j.started_unix_ms();
+    s.finishedMs = j.finished_unix_ms();
+    nlohmann::json stats = nlohmann::json::object();
+    for (const auto& [k, v] : j.stats()) stats[k] = v;
+    s.stats = stats.dump();
+    return s;
+}
+
+pb::Job fromStored(const StoredJob& s) {
+    pb::Job j;
+    j.set_id(s.id);
+    if (!j.mutable_spec()->ParseFromString(s.spec))
+        spdlog::error("[job {}] its stored spec is damaged; it will fail if it runs", s.id);
+    j.set_state(pb::JobState_IsValid(s.state) ? pb::JobState(s.state) : pb::JOB_STATE_FAILED);
+    j.set_error(s.error);
+    j.set_created_unix_ms(s.createdMs);
+    j.set_started_unix_ms(s.startedMs);
+    j.set_finished_unix_ms(s.finishedMs);
+    try {
+        auto stats = nlohmann::json::parse(s.stats);
+        for (const auto& [k, v] : stats.items())
+            if (v.is_number()) (*j.mutable_stats())[k] = v.get<double>();
+    } catch (const std::exception&) {
+    }
+    return j;
+}
+
+}  // namespace
+
+JobManager::JobManager(JobStore& store, const SceneSource& scenes, const ServiceLimits& limits,
+                       int threads, int maxJobs)
+    : store_(store), scenes_(scenes), limits_(limits), maxJobs_(maxJobs), pool_(threads) {
+    persist_ = [this](const Job& job, const pb::Job& next, const std::string& note) {
+        store_.update(toStored(next, job.sequence()), note);
+    };
+}
+
+JobManager::~JobManager() {
+    shutdown();
+}
+
+void JobManager::recover() {
+    store_.removeOrphanFolders();
+    size_t queued = 0, requeued = 0, finished = 0;
+    for (const StoredJob& stored : store_.loadAll()) {
+        auto job = std::make_shared<Job>(fromStored(stored), stored.sequence);
+        pb::JobState state = job->state();
+        if (isActive(state)) {
+            std::string note =
+                "re-queued after restart: partitad stopped while the job was " + stateName(state);
+            pb::Job record = job->snapshot();
+            std::map<std::string, double> stats(record.stats().begin(), record.stats().end());
+            stats["requeued"] += 1;
+            job->transition(pb::JOB_STATE_QUEUED, note, persist_, note, &stats);
+            spdlog::warn("{} {}", job->tag(), note);
+            state = pb::JOB_STATE_QUEUED;
+            ++requeued;
+        }
+        if (state == pb::JOB_STATE_QUEUED) {
+            queue_.insert(job);
+            ++queued;
+        } else {
+            ++finished;
+            if (state == pb::JOB_STATE_DONE)
+                job->keepFinalFrameOnDisk(store_.jobDir(job->id()) / kResultExr);
+        }
+        jobs_[job->id()] = job;
+    }
+    spdlog::info("job store '{}': {} finished jobs, {} queued ({} of them re-queued)",
+                 store_.dir().string(), finished, queued, requeued);
+}
+
+void JobManager::start() {
+    std::lock_guard lock(mutex_);
+    if (started_) return;
+    started_ = true;
+    {
+        // recover() takes no lock of its own; nothing else runs yet.
+        recover();
+    }
+    for (int i = 0; i < maxJobs_; ++i) runners_.emplace_back([this] { runnerLoop(); });
+}
+
+void JobManager::shutdown() {
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_ && runners_.empty()) return;
+        stopping_ = true;
+        for (const auto& job : running_) job->requestCancel(CancelReason::Shutdown);
+    }
+    cv_.notify_all();
+    for (auto& t : runners_) t.join();
+    runners_.clear();
+    std::vector<std::shared_ptr<Job>> jobs;
+    {
+        std::lock_guard lock(mutex_);
+        for (const auto& [id, job] : jobs_) jobs.push_back(job);
+    }
+    grpc::Status closing(
+        grpc::StatusCode::UNAVAILABLE,
+        "partitad is shutting down; queued and interrupted jobs run again after it restarts");
+    for (const auto& job : jobs) job->closeWatchers(closing);
+    store_.checkpoint();
+}
+
+std::string JobManager::newId() const {
+    static std::mt19937_64 rng(std::random_device{}());
+    for (;;) {
+        char buf[17];
+        std::snprintf(buf, sizeof buf, "%012llx",
+                      static_cast<unsigned long long>(rng() & 0xffffffffffffULL));
+        std::string id(buf);
+        if (!jobs_.count(id) && !reserved_.count(id)) return id;
+    }
+}
+
+grpc::Status JobManager::submit(const pb::JobSpec& spec, pb::Job& out) {
+    std::string id;
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_) return {grpc::StatusCode::UNAVAILABLE, "partitad is shutting down"};
+        if (int(queue_.size() + reserved_.size()) >= limits_.maxQueuedJobs)
+            return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                    "the queue is full: " + std::to_string(queue_.size()) +
+                        " jobs are waiting, the limit of this server (--max-queued)"};
+        id = newId();
+        reserved_.insert(id);
+    }
+    pb::Job record;
+    record.set_id(id);
+    *record.mutable_spec() = withoutSceneBytes(spec);
+    record.set_state(pb::JOB_STATE_QUEUED);
+    record.set_created_unix_ms(nowUnixMs());
+    std::shared_ptr<Job> job;
+    try {
+        if (!spec.scene().has_scene_name()) {
+            // The upload is kept with the job so that it can run (again) after a restart.
+            fs::create_directories(store_.jobDir(id));
+            JobStore::writeFileAtomic(store_.jobDir(id) / kUploadFile,
+                                      spec.scene().SerializeAsString());
+        }
+        int64_t sequence = store_.nextSequence();
+        store_.insert(toStored(record, sequence), "submitted");
+        job = std::make_shared<Job>(record, sequence);
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        fs::remove_all(store_.jobDir(id), ec);
+        std::lock_guard lock(mutex_);
+        reserved_.erase(id);
+        spdlog::error("[job {}] could not be stored: {}", id, e.what());
+        return {grpc::StatusCode::INTERNAL,
+                std::string("the job could not be stored: ") + e.what()};
+    }
+    {
+        std::lock_guard lock(mutex_);
+        reserved_.erase(id);
+        jobs_[id] = job;
+        queue_.insert(job);
+    }
+    cv_.notify_one();
+    const pb::SceneSource& scene = spec.scene();
+    spdlog::info("{} queued: {} on '{}', priority {}", job->tag(),
+                 spec.algorithm().empty() ? "pt" : spec.algorithm(),
+                 scene.has_scene_name() ? scene.scene_name() : "upload", spec.priority());
+    out = job->snapshot();
+    return grpc::Status::OK;
+}
+
+std::shared_ptr<Job> JobManager::find(const std::string& id) const {
+    std::lock_guard lock(mutex_);
+    auto it = jobs_.find(id);
+    return it == jobs_.end() ? nullptr : it->second;
+}
+
+grpc::Status JobManager::cancel(const std::string& id, pb::Job& out) {
+    std::lock_guard lock(mutex_);
+    auto it = jobs_.find(id);
+    if (it == jobs_.end()) return {grpc::StatusCode::NOT_FOUND, "no job '" + id + "'"};
+    const auto& job = it->second;
+    if (queue_.erase(job)) {
+        try {
+            job->transition(pb::JOB_STATE_CANCELLED, "", persist_, "cancelled while queued");
+        } catch (const std::exception& e) {
+            queue_.insert(job);
+            return {grpc::StatusCode::INTERNAL,
+                    std::string("could not record the cancel: ") + e.what()};
+        }
+        removeUpload(store_, job->id());
+        spdlog::info("{} cancelled while queued", job->tag());
+    } else {
+        pb::JobState state = job->state();
+        if (state == pb::JOB_STATE_DONE || state == pb::JOB_STATE_FAILED)
+            return {grpc::StatusCode::FAILED_PRECONDITION,
+                    "job " + id + " has already finished (" + stateName(state) + ")"};
+        if (state != pb::JOB_STATE_CANCELLED && !job->cancelRequested()) {
+            job->requestCancel(CancelReason::User);
+            spdlog::info("{} cancel requested while {}", job->tag(), stateName(state));
+        }
+    }
+    out = job->snapshot();
+    return grpc::Status::OK;
+}
+
+grpc::Status JobManager::remove(const std::string& id) {
+    std::shared_ptr<Job> job;
+    {
+        std::lock_guard lock(mutex_);
+        auto it = jobs_.find(id);
+        if (it == jobs_.end()) return {grpc::StatusCode::NOT_FOUND, "no job '" + id + "'"};
+        pb::JobState state = it->second->state();
+        if (!isTerminal(state))
+            return {grpc::StatusCode::FAILED_PRECONDITION,
+                    "job " + id + " is " + stateName(state) + ": cancel it before deleting it"};
+        job = it->second;
+        jobs_.erase(it);
+    }
+    job->closeWatchers({grpc::StatusCode::NOT_FOUND, "job " + id + " was deleted"});
+    try {
+        store_.remove(id);
+    } catch (const std::exception& e) {
+        spdlog::error("{} could not be deleted from the store: {}", job->tag(), e.what());
+        return {grpc::StatusCode::INTERNAL, std::string("could not delete the job: ") + e.what()};
+    }
+    spdlog::info("{} deleted", job->tag());
+    return grpc::Status::OK;
+}
+
+std::vector<pb::Job> JobManager::list(const std::string& label, const std::set<int>& states) const {
+    std::vector<std::shared_ptr<Job>> jobs;
+    {
+        std::lock_guard lock(mutex_);
+        for (const auto& [id, job] : jobs_) jobs.push_back(job);
+    }
+    std::sort(jobs.begin(), jobs.end(),
+              [](const auto& a, const auto& b) { return a->sequence() < b->sequence(); });
+    std::vector<pb::Job> out;
+    for (const auto& job : jobs) {
+        if (!label.empty() && job->spec().label() != label) continue;
+        pb::Job snapshot = job->snapshot();
+        if (!states.empty() && !states.count(int(snapshot.state()))) continue;
+        out.push_back(std::move(snapshot));
+    }
+    return out;
+}
+
+void JobManager::runnerLoop() {
+    RunContext context{store_, scenes_, limits_, pool_};
+    for (;;) {
+        std::shared_ptr<Job> job;
+        {
+            std::unique_lock lock(mutex_);
+            cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+            if (stopping_) return;
+            job = *queue_.begin();
+            queue_.erase(queue_.begin());
+            running_.insert(job);
+        }
+        runJob(*job, context, persist_);
+        std::lock_guard lock(mutex_);
+        running_.erase(job);
+    }
+}
+
+}  // namespace partita::server

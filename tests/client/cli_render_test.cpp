@@ -1,0 +1,182 @@
+// partita render: through a private daemon (no --server) and through a running one.
+#include <nlohmann/json.hpp>
+
+#include "cli_test_util.h"
+#include "image_io.h"
+
+namespace partita::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+void expectResults(const fs::path& exr, int width, int height) {
+    ASSERT_TRUE(fs::exists(exr)) << exr;
+    EXPECT_TRUE(fs::exists(fs::path(exr).replace_extension(".png")));
+    const fs::path json = fs::path(exr).replace_extension(".json");
+    ASSERT_TRUE(fs::exists(json));
+    auto meta = nlohmann::json::parse(readText(json));
+    EXPECT_TRUE(meta.is_object());
+    LayeredImage image = readExr(exr);
+    EXPECT_EQ(image.combined.width, width);
+    EXPECT_EQ(image.combined.height, height);
+    EXPECT_GT(image.combined.mean().x + image.combined.mean().y + image.combined.mean().z, 0.0f);
+}
+
+TEST(CliRender, PrivateDaemonRendersUploadedGltfAndCleansUp) {
+    TempDir dir;
+    fs::create_directory(dir / "tmp");
+    // No --server: partita finds partitad next to itself (../server/partitad) and uses TMPDIR
+    // for the daemon's store, which must be gone afterwards.
+    RunResult r = partita(concat({"render", kCornell, "--out", (dir / "a.exr").string(),
+                                  "--previews", (dir / "previews").string()},
+                                 kTiny),
+                          {{"TMPDIR", (dir / "tmp").string()}});
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    expectResults(dir / "a.exr", 32, 24);
+    EXPECT_TRUE(fs::exists(dir / "previews" / "combined.png")) << r.describe();
+    EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "the private daemon's folder was left behind";
+}
+
+TEST(CliRender, PrivateDaemonRendersSceneByName) {
+    TempDir dir;
+    RunResult r =
+        partita(concat({"-q", "render", "cornell", "--out", (dir / "n.exr").string()}, kTiny));
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    EXPECT_TRUE(r.err.empty()) << "-q prints nothing on success\n" << r.describe();
+    expectResults(dir / "n.exr", 32, 24);
+}
+
+TEST(CliRender, WithServerByNameAndUpload) {
+    Daemon daemon;
+    TempDir dir;
+    RunResult byName =
+        partita(concat({"--server", daemon.address(), "render", "cornell", "--out",
+                        (dir / "name.exr").string(), "--previews", (dir / "prev").string()},
+                       kTiny));
+    ASSERT_EQ(byName.exitCode, 0) << byName.describe() << daemon.log();
+    expectResults(dir / "name.exr", 32, 24);
+    EXPECT_TRUE(fs::exists(dir / "prev" / "combined.png"));
+
+    // Global options may also follow the subcommand.
+    RunResult upload = partita(concat({"render", kCornell, "--server", daemon.address(), "--out",
+                                       (dir / "up.exr").string(), "--seed", "7"},
+                                      kTiny));
+    ASSERT_EQ(upload.exitCode, 0) << upload.describe() << daemon.log();
+    expectResults(dir / "up.exr", 32, 24);
+    auto meta = nlohmann::json::parse(readText(dir / "up.json"));
+    EXPECT_EQ(meta.dump().find("\"seed\":7") != std::string::npos, true) << meta.dump();
+}
+
+TEST(CliRender, DetachThenWatchThenGet) {
+    Daemon daemon;
+    TempDir dir;
+    RunResult submit = partita(concat(
+        {"--server", daemon.address(), "render", kCornell, "--detach", "--label", "detached"},
+        kTiny));
+    ASSERT_EQ(submit.exitCode, 0) << submit.describe();
+    auto out = lines(submit.out);
+    ASSERT_EQ(out.size(), 1u) << submit.describe();
+    const std::string id = out[0];
+    EXPECT_EQ(words(id).size(), 1u);
+
+    RunResult watch =
+        partita({"--server", daemon.address(), "watch", id, "--previews", (dir / "prev").string()});
+    ASSERT_EQ(watch.exitCode, 0) << watch.describe();
+
+    RunResult get =
+        partita({"--server", daemon.address(), "get", id, "--out", (dir / "g.exr").string()});
+    ASSERT_EQ(get.exitCode, 0) << get.describe();
+    expectResults(dir / "g.exr", 32, 24);
+
+    // The job is listed, done, with its label and algorithm.
+    RunResult jobs = partita({"--server", daemon.address(), "jobs"});
+    ASSERT_EQ(jobs.exitCode, 0) << jobs.describe();
+    auto rows = lines(jobs.out);
+    ASSERT_GE(rows.size(), 2u) << jobs.describe();
+    auto header = words(rows[0]);
+    EXPECT_EQ(header,
+              (std::vector<std::string>{"ID", "STATE", "ALGORITHM", "SCENE", "LABEL", "PROGRESS"}));
+    bool found = false;
+    for (size_t i = 1; i < rows.size(); ++i) {
+        auto w = words(rows[i]);
+        if (!w.empty() && w[0] == id) {
+            found = true;
+            EXPECT_EQ(w,
+                      (std::vector<std::string>{id, "done", "pt", "upload", "detached", "100%"}));
+        }
+    }
+    EXPECT_TRUE(found) << jobs.describe();
+}
+
+TEST(CliRender, CancelARunningJob) {
+    Daemon daemon;
+    RunResult submit = partita({"--server", daemon.address(), "render", "cornell", "--detach",
+                                "--seconds", "60", "--width", "32", "--height", "24"});
+    ASSERT_EQ(submit.exitCode, 0) << submit.describe();
+    const std::string id = lines(submit.out).at(0);
+
+    RunResult cancel = partita({"--server", daemon.address(), "cancel", id});
+    ASSERT_EQ(cancel.exitCode, 0) << cancel.describe() << daemon.log();
+    EXPECT_EQ(lines(cancel.out).at(0), "job " + id + ": cancelled") << cancel.describe();
+
+    // Watching a cancelled job ends at once, and fails: it did not finish.
+    RunResult watch = partita({"--server", daemon.address(), "watch", id});
+    expectOneLineError(watch, "was cancelled");
+
+    RunResult get = partita({"--server", daemon.address(), "get", id});
+    expectOneLineError(get, "(FAILED_PRECONDITION)");
+
+    RunResult jobs = partita({"--server", daemon.address(), "jobs"});
+    ASSERT_EQ(jobs.exitCode, 0);
+    EXPECT_NE(jobs.out.find("cancelled"), std::string::npos) << jobs.describe();
+}
+
+TEST(CliRender, TokenIsSentFromTokenFile) {
+    TempDir dir;
+    { std::ofstream(dir / "token") << "s3cret-token\n"; }
+    Daemon daemon({"--token-file", (dir / "token").string()});
+    RunResult without = partita({"--server", daemon.address(), "jobs"});
+    expectOneLineError(without, "(UNAUTHENTICATED)");
+    RunResult with =
+        partita({"--server", daemon.address(), "--token-file", (dir / "token").string(), "jobs"});
+    EXPECT_EQ(with.exitCode, 0) << with.describe();
+    RunResult probe = runProgram({PARTITA_PROBE_PATH, "--server", daemon.address(), "--token-file",
+                                  (dir / "token").string()});
+    EXPECT_EQ(probe.exitCode, 0) << probe.describe();
+}
+
+TEST(CliRender, TlsWithCaFile) {
+    TempDir dir;
+    const std::string cmd =
+        "openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=partita "
+        "-addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout '" +
+        (dir / "key.pem").string() + "' -out '" + (dir / "cert.pem").string() + "' >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) GTEST_SKIP() << "no openssl to make a test certificate";
+    { std::ofstream(dir / "token") << "tls-token\n"; }
+    Daemon daemon({"--tls-cert", (dir / "cert.pem").string(), "--tls-key",
+                   (dir / "key.pem").string(), "--token-file", (dir / "token").string()});
+    const std::vector<std::string> secure = {"--server",     daemon.address(),
+                                             "--tls-ca",     (dir / "cert.pem").string(),
+                                             "--token-file", (dir / "token").string()};
+    RunResult r = partita(concat(
+        secure, concat({"-q", "render", "cornell", "--out", (dir / "t.exr").string()}, kTiny)));
+    ASSERT_EQ(r.exitCode, 0) << r.describe() << daemon.log();
+    EXPECT_TRUE(fs::exists(dir / "t.exr"));
+    // Plain text to a TLS server fails in one line that hints at --tls-ca.
+    expectOneLineError(partita({"--server", daemon.address(), "jobs"}), "--tls-ca");
+    RunResult probe = runProgram({PARTITA_PROBE_PATH, "--server", daemon.address(), "--tls-ca",
+                                  (dir / "cert.pem").string(), "--tls-server-name", "localhost"});
+    EXPECT_EQ(probe.exitCode, 0) << probe.describe();
+}
+
+TEST(CliRender, HealthProbe) {
+    Daemon daemon;
+    RunResult ok = runProgram({PARTITA_PROBE_PATH, "--server", daemon.address()});
+    EXPECT_EQ(ok.exitCode, 0) << ok.describe();
+    RunResult down = runProgram({PARTITA_PROBE_PATH, "--server", "127.0.0.1:1", "--timeout", "2"});
+    EXPECT_EQ(down.exitCode, 1) << down.describe();
+    EXPECT_EQ(down.errLines().size(), 1u) << down.describe();
+}
+
+}  // namespace
+}  // namespace partita::test

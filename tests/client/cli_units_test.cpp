@@ -1,0 +1,144 @@
+// The CLI's pieces without a server: sweep axes, uri decoding, metrics, tables.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "cli/errors.h"
+#include "cli/exr_reader.h"
+#include "cli/image_metrics.h"
+#include "cli/job_spec.h"
+#include "cli/scene_source.h"
+#include "cli/sweep_axis.h"
+#include "cli/table.h"
+#include "image_io.h"
+#include "process.h"
+
+namespace partita::cli {
+namespace {
+
+TEST(SweepAxis, ParsesAndApplies) {
+    SweepAxis a = parseSweepAxis("max_depth=1,2,8");
+    EXPECT_EQ(a.name, "max-depth");
+    EXPECT_EQ(a.values, (std::vector<std::string>{"1", "2", "8"}));
+    partita::v1::JobSpec spec;
+    applySweepValue(spec, "max-depth", "8");
+    applySweepValue(spec, "radius", "2.5");
+    applySweepValue(spec, "mpp", "32");
+    applySweepValue(spec, "seed", "18446744073709551615");
+    EXPECT_EQ(spec.max_depth(), 8);
+    EXPECT_FLOAT_EQ(spec.radius(), 2.5f);
+    EXPECT_EQ(spec.budget().kind(), partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    EXPECT_EQ(spec.budget().amount(), 32);
+    EXPECT_EQ(spec.seed(), 18446744073709551615ull);
+    EXPECT_THROW(parseSweepAxis("y=1.5"), CliError);
+    EXPECT_THROW(parseSweepAxis("seed=-1"), CliError);
+    EXPECT_THROW(parseSweepAxis("radius=inf"), CliError);
+    EXPECT_THROW(parseSweepAxis("y=1,1"), CliError);
+    EXPECT_THROW(parseSweepAxis("=1"), CliError);
+    EXPECT_THROW(parseSweepAxis("y=99999999999"), CliError);
+}
+
+TEST(SceneSource, PercentDecodingAndClassification) {
+    EXPECT_EQ(percentDecode("my%20file.bin"), "my file.bin");
+    EXPECT_EQ(percentDecode("a%2Fb"), "a/b");
+    EXPECT_THROW(percentDecode("bad%2"), CliError);
+    EXPECT_THROW(percentDecode("bad%zz"), CliError);
+    EXPECT_TRUE(classifyScene("x/scene.GLTF").isFile);
+    EXPECT_TRUE(classifyScene("scene.glb").isFile);
+    EXPECT_FALSE(classifyScene("cornell").isFile);
+    EXPECT_EQ(sceneStem(classifyScene("a/b/pool.gltf")), "pool");
+}
+
+TEST(ImageMetrics, RmseAndRelMse) {
+    Image a(2, 1), b(2, 1);
+    b.rgb = {1, 1, 1, 0, 0, 0};
+    a.rgb = {1, 1, 1, 0.1f, 0.1f, 0.1f};
+    ErrorMetrics m = compareImages(a, b);
+    EXPECT_NEAR(m.rmse, std::sqrt(0.03 / 6), 1e-7);
+    EXPECT_NEAR(m.relMse, 3 * (0.01 / 0.01) / 6, 1e-6);
+    EXPECT_THROW(compareImages(Image(2, 2), b), CliError);
+}
+
+TEST(Table, CsvQuotes) {
+    Table t({"a", "b"});
+    t.addRow({"x,y", "he said \"hi\""});
+    EXPECT_EQ(t.csv(), "a,b\n\"x,y\",\"he said \"\"hi\"\"\"\n");
+    EXPECT_EQ(formatNumber(0.25), "0.25");
+}
+
+TEST(JobSpec, ValidatesLikeTheCore) {
+    partita::v1::JobSpec spec;
+    EXPECT_EQ(validateJobSpec(spec), "");
+    spec.set_width(0);
+    EXPECT_NE(validateJobSpec(spec), "");
+    spec.set_width(8);
+    spec.mutable_budget()->set_kind(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
+    spec.mutable_budget()->set_amount(1.5);
+    EXPECT_NE(validateJobSpec(spec).find("whole"), std::string::npos);
+}
+
+TEST(Errors, StatusCodesAndOneLine) {
+    EXPECT_EQ(statusCodeName(grpc::StatusCode::INVALID_ARGUMENT), "INVALID_ARGUMENT");
+    EXPECT_EQ(oneLine("a\nb  c\n"), "a b c");
+    try {
+        throwStatus(grpc::Status(grpc::StatusCode::NOT_FOUND, "no job 'x'"), "watch job x");
+        FAIL();
+    } catch (const CliError& e) {
+        EXPECT_STREQ(e.what(), "watch job x: no job 'x'");
+        EXPECT_EQ(e.code(), "NOT_FOUND");
+    }
+}
+
+// The CLI's own EXR reader against the core's (OpenImageIO) on the files partitad writes, and on
+// the other encodings it claims to read (made with oiiotool when it is installed).
+TEST(ExrReader, MatchesCoreReadExr) {
+    namespace fs = std::filesystem;
+    test::TempDir dir;
+    LayeredImage img;
+    const int w = 37, h = 21;  // not a multiple of the 16-line ZIP blocks
+    img.combined = Image(w, h);
+    Image a(w, h), b(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            a.set(x, y, {0.01f * x, 1e-4f * y * y, x == y ? 100.0f : 0.0f});
+            b.set(x, y, {std::sin(0.3f * x) + 1, 0.5f, 1e-8f * x});
+            img.combined.set(x, y,
+                             {a.at(x, y).x + b.at(x, y).x, a.at(x, y).y + b.at(x, y).y,
+                              a.at(x, y).z + b.at(x, y).z});
+        }
+    img.layers = {{"LSDE", a}, {"LDE", b}};
+    writeExr(dir / "zip.exr", img, {{"note", "hello"}});
+    std::vector<std::string> files = {"zip.exr"};
+    if (std::system("oiiotool --help >/dev/null 2>&1") == 0) {
+        for (const std::string c : {"none", "rle", "zips"}) {
+            const std::string cmd = "oiiotool '" + (dir / "zip.exr").string() + "' --compression " +
+                                    c + " -o '" + (dir / (c + ".exr")).string() + "'";
+            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+            files.push_back(c + ".exr");
+        }
+        const std::string cmd = "oiiotool '" + (dir / "zip.exr").string() + "' -d half -o '" +
+                                (dir / "half.exr").string() + "'";
+        ASSERT_EQ(std::system(cmd.c_str()), 0);
+        files.push_back("half.exr");
+    }
+    for (const auto& f : files) {
+        std::map<std::string, std::string> attrs;
+        LayeredImage mine = readExrFile(dir / f, &attrs), core = readExr(dir / f);
+        ASSERT_EQ(mine.layers.size(), 2u) << f;
+        EXPECT_EQ(mine.layers[0].name, "LSDE") << f;
+        EXPECT_EQ(mine.layers[1].name, "LDE") << f;
+        EXPECT_EQ(mine.combined.width, w);
+        EXPECT_EQ(mine.combined.height, h);
+        EXPECT_EQ(mine.combined.rgb, core.combined.rgb) << f;
+        for (size_t l = 0; l < 2; ++l)
+            EXPECT_EQ(mine.layers[l].image.rgb, core.layer(mine.layers[l].name)->rgb) << f;
+        EXPECT_EQ(attrs["note"], "hello") << f;
+    }
+    EXPECT_THROW(readExrFile(dir / "missing.exr"), CliError);
+    std::ofstream(dir / "junk.exr") << "not an exr";
+    EXPECT_THROW(readExrFile(dir / "junk.exr"), CliError);
+}
+
+}  // namespace
+}  // namespace partita::cli

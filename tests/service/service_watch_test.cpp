@@ -1,0 +1,127 @@
+// Watching: a watcher that disconnects changes nothing for the job or other watchers; a late
+// watcher first gets the state and the latest frame; a slow watcher skips frames, never the final.
+#include <gtest/gtest.h>
+
+#include <future>
+#include <thread>
+
+#include "in_process.h"
+#include "service_client.h"
+
+namespace partita::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(ServiceWatch, DisconnectingWatcherChangesNothingForOthers) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::JobSpec spec = sceneSpec("cornell", 96, 72, 48, 2);
+    spec.set_preview_interval_seconds(0.1);
+    Submitted job = submit(*stub, spec);
+    ASSERT_TRUE(job.status.ok());
+
+    // The steady watcher, on its own connection, watches to the end.
+    auto otherStub = daemon.stub();
+    auto steady =
+        std::async(std::launch::async, [&] { return watch(*otherStub, job.id, true, true); });
+
+    // The leaving watcher reads a few events, then its client goes away mid-stream.
+    pb::WatchJobRequest request;
+    request.set_job_id(job.id);
+    request.set_previews(true);
+    request.set_raw_previews(true);
+    auto ctx = context();
+    auto reader = stub->WatchJob(ctx.get(), request);
+    pb::JobEvent event;
+    int frames = 0;
+    while (frames < 2 && reader->Read(&event)) frames += event.has_preview();
+    ASSERT_EQ(frames, 2);
+    ctx->TryCancel();
+    while (reader->Read(&event)) {
+    }
+    EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::CANCELLED);
+
+    // A late watcher: the state first, then the latest frame.
+    {
+        pb::WatchJobRequest late;
+        late.set_job_id(job.id);
+        late.set_previews(true);
+        auto lateCtx = context();
+        auto lateReader = stub->WatchJob(lateCtx.get(), late);
+        pb::JobEvent first, second;
+        ASSERT_TRUE(lateReader->Read(&first));
+        EXPECT_TRUE(first.has_state());
+        ASSERT_TRUE(lateReader->Read(&second));
+        EXPECT_TRUE(second.has_preview())
+            << "a late watcher gets the latest frame right after the state";
+        lateCtx->TryCancel();
+        while (lateReader->Read(&event)) {
+        }
+        lateReader->Finish();
+    }
+
+    WatchLog log = steady.get();
+    ASSERT_TRUE(log.status.ok()) << log.status.error_message();
+    ASSERT_TRUE(log.last());
+    EXPECT_EQ(log.last()->state(), pb::JOB_STATE_DONE);
+    ASSERT_FALSE(log.frames().empty());
+    EXPECT_TRUE(log.frames().back()->final());
+    Fetched exr = fetch(*stub, job.id, pb::RESULT_KIND_EXR);
+    EXPECT_EQ(compareImages(frameImage(*log.frames().back()), readExrBytes(exr.bytes)), "");
+
+    // The daemon still serves and the job is unaffected.
+    EXPECT_EQ(waitForEnd(*stub, job.id).state(), pb::JOB_STATE_DONE);
+}
+
+TEST(ServiceWatch, SlowWatcherSkipsFramesButGetsTheFinalOneAndTheEnd) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    // Big raw frames (~30 layers of 230 KB) fill the stream's flow-control window at once.
+    pb::JobSpec spec = sceneSpec("cornell-glass", 160, 120, 16, 4);
+    spec.set_preview_interval_seconds(0.05);
+    Submitted job = submit(*stub, spec);
+    ASSERT_TRUE(job.status.ok());
+
+    auto fastStub = daemon.stub();
+    auto fast =
+        std::async(std::launch::async, [&] { return watch(*fastStub, job.id, true, false); });
+
+    pb::WatchJobRequest request;
+    request.set_job_id(job.id);
+    request.set_previews(true);
+    request.set_raw_previews(true);
+    auto ctx = context(120s);
+    auto reader = stub->WatchJob(ctx.get(), request);
+    pb::JobEvent event;
+    std::vector<uint64_t> sequences;
+    bool finalSeen = false;
+    pb::JobState lastState = pb::JOB_STATE_UNSPECIFIED;
+    while (reader->Read(&event)) {
+        if (event.has_preview()) {
+            sequences.push_back(event.preview().sequence());
+            finalSeen |= event.preview().final();
+        }
+        if (event.has_state()) lastState = event.state().state();
+        std::this_thread::sleep_for(200ms);  // a slow client
+    }
+    ASSERT_TRUE(reader->Finish().ok());
+    EXPECT_TRUE(finalSeen);
+    EXPECT_EQ(lastState, pb::JOB_STATE_DONE);
+    WatchLog fastLog = fast.get();
+    ASSERT_TRUE(fastLog.status.ok());
+    ASSERT_FALSE(fastLog.frames().empty());
+    uint64_t produced = fastLog.frames().back()->sequence();
+    EXPECT_LT(sequences.size(), produced) << "the slow watcher should have skipped frames";
+    EXPECT_EQ(sequences.back(), produced) << "both end with the same final frame";
+    EXPECT_TRUE(std::is_sorted(sequences.begin(), sequences.end()));
+    std::printf("slow watcher: %zu of %llu frames, job %.2f s\n", sequences.size(),
+                (unsigned long long)produced, fastLog.last()->stats().at("job_seconds"));
+}
+
+}  // namespace
+}  // namespace partita::test
