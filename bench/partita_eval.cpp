@@ -1,5 +1,6 @@
 // partita-eval: measures quality and speed and prints a table; --json F writes the figures.
-//   partita-eval throughput --scene S [--width W --height H --spp N --max-depth N] [--json F]
+//   partita-eval throughput --scene S [--width W --height H --spp N --max-depth N --repeats N
+//                           --max-threads N] [--json F]
 // (`reference` and `quality` arrive with BDPT and the MCMC algorithms.)
 #include <CLI/CLI.hpp>
 
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
     throughput->add_option("--max-depth", tp.maxDepth)->capture_default_str();
     throughput->add_option("--rays", tp.rays, "rays for the bare Embree measurement")->capture_default_str();
     throughput->add_option("--repeats", tp.repeats, "best of this many runs")->capture_default_str();
+    throughput->add_option("--max-threads", tp.maxThreads, "largest thread count to measure (0: all)")
+        ->capture_default_str();
     throughput->add_option("--camera", tp.camera);
     throughput->add_option("--json", jsonPath, "also write the figures as JSON to this file");
     try {

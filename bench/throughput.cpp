@@ -119,7 +119,7 @@ nlohmann::json runThroughput(const ThroughputOptions& o) {
     Rate embree = measureEmbreeRaysPerSecond(scene, rays, o.repeats);
     PtMeasurement one = measurePathTracer(scene, o, 1);
     embree.add(measureEmbreeRaysPerSecond(scene, rays, o.repeats));
-    int hw = int(std::max(1u, std::thread::hardware_concurrency()));
+    int hw = o.maxThreads > 0 ? o.maxThreads : int(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<int> counts = {1};
     for (int n = 2; n <= hw; n *= 2) counts.push_back(n);
     if (counts.back() != hw) counts.push_back(hw);

@@ -15,6 +15,7 @@ struct ThroughputOptions {
     int maxDepth = 16;
     int rays = 2'000'000;   // for the bare Embree measurement
     int repeats = 3;        // best of, to damp noise from other processes
+    int maxThreads = 0;     // thread counts 1, 2, 4, ... up to this (0: the hardware's)
     std::string camera;
 };
 

@@ -105,17 +105,26 @@ void Film::addSample(int x, int y, PathType type, Rgb value) {
     // Unsigned compares catch negative coordinates too; a sample outside the film is a caller
     // bug, ignored rather than written out of bounds.
     if (unsigned(x) >= unsigned(width_) || unsigned(y) >= unsigned(height_)) return;
+    Pixel(*this, tileFor(x, y), tileIndex(x, y)).add(type, value);
+}
+
+Film::Pixel Film::pixel(int x, int y) {
+    if (unsigned(x) >= unsigned(width_) || unsigned(y) >= unsigned(height_))
+        throw std::out_of_range("Film::pixel: (" + std::to_string(x) + ", " + std::to_string(y) +
+                                ") is outside the film");
+    return Pixel(*this, tileFor(x, y), tileIndex(x, y));
+}
+
+void Film::Pixel::add(PathType type, Rgb value) {
     if (!isFinite(value)) {
-        dropped_.fetch_add(1, std::memory_order_relaxed);
+        film_->dropped_.fetch_add(1, std::memory_order_relaxed);
         return;
     }
     // A black sample changes no sum; skipping it also keeps zero-contribution types from
     // allocating buffers.
     if (isBlack(value)) return;
-    Tile& tile = tileFor(x, y);
-    const int i = tileIndex(x, y);
-    tile.combined[i] += value;
-    tile.bufferFor(type)[i] += value;
+    tile_->combined[index_] += value;
+    tile_->bufferFor(type)[index_] += value;
 }
 
 void Film::merge(const Film& other) {

@@ -22,6 +22,8 @@
 namespace partita {
 
 class Film {
+    struct Tile;
+
   public:
     static constexpr int kTileSize = 16;
     static constexpr const char* kOtherLayer = "other";
@@ -40,6 +42,23 @@ class Film {
     /// Black values change nothing (and do not register the type); a pixel outside the film is
     /// ignored.
     void addSample(int x, int y, PathType type, Rgb value);
+
+    /// One pixel's place in the film, looked up once, for a renderer that adds many samples to
+    /// one pixel in a row (the path tracer: all of a pixel's samples in a pass). add() follows
+    /// the rules of addSample. Thread safety as for addSample: per tile.
+    class Pixel {
+    public:
+        void add(PathType type, Rgb value);
+
+    private:
+        friend class Film;
+        Pixel(Film& film, Tile& tile, int index) : film_(&film), tile_(&tile), index_(index) {}
+        Film* film_;
+        Tile* tile_;
+        int index_;
+    };
+    /// Pixel (x, y), which must lie inside the film (std::out_of_range otherwise).
+    Pixel pixel(int x, int y);
 
     /// Sum another film of the same size into this one (std::invalid_argument otherwise), the
     /// dropped-sample counts included.
@@ -60,7 +79,6 @@ class Film {
     uint64_t droppedSamples() const;
 
   private:
-    struct Tile;
     int width_ = 0, height_ = 0;
     std::vector<std::unique_ptr<Tile>> tiles_;
     std::atomic<uint64_t> dropped_{0};  // non-finite samples, counted off the hot path

@@ -33,12 +33,13 @@ float lightPower(const Light& light) {
 bool isDeltaLight(const Light& light) { return !std::holds_alternative<AreaLight>(light); }
 
 float areaLightPdf(const AreaLight& l, Vec3f ref, Vec3f p) {
+    // The density sampleAreaLight gives, computed the same way.
     Vec3f d = p - ref;
     float dist2 = lengthSquared(d);
     if (dist2 <= 0) return 0;
-    float cosLight = absDot(l.normal, d) / std::sqrt(dist2);
-    if (cosLight <= 0) return 0;
-    return dist2 / (cosLight * l.area);
+    float cosD = absDot(l.normal, d);
+    if (cosD <= 0) return 0;
+    return dist2 * std::sqrt(dist2) / (cosD * l.area);
 }
 
 std::optional<LightSample> samplePunctualLight(const Light& light, Vec3f ref) {

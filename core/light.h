@@ -84,17 +84,17 @@ inline bool sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, LightSample&
     Vec3f d = p - ref;
     float dist2 = lengthSquared(d);
     if (dist2 <= 0) return false;
+    // Emits towards ref, along -d; this also rules out a zero cosine.
+    float cosD = -dot(l.normal, d);  // |d| cos(theta) at the light, signed
+    if (l.twoSided ? cosD == 0 : !(cosD > 0)) return false;
     float dist = std::sqrt(dist2);
-    Vec3f wi = d / dist;
-    if (!areaLightEmitsTowards(l, -wi)) return false;
-    float cosLight = absDot(l.normal, wi);
-    if (cosLight <= 0) return false;
-    s.wi = wi;
+    s.wi = d * (1 / dist);
     s.point = p;
     s.normal = l.normal;
     s.distance = dist;
-    // Uniform area density 1/A converted to solid angle: d^2 / (|cos| A).
-    s.pdf = dist2 / (cosLight * l.area);
+    // Uniform area density 1/A converted to solid angle: d^2 / (|cos| A) with
+    // |cos| = |cosD| / dist. Written without wi, so it does not wait for the division above.
+    s.pdf = dist2 * dist / (std::abs(cosD) * l.area);
     s.isDelta = false;
     return true;
 }

@@ -284,7 +284,7 @@ Rgb RenderScene::emittedRadiance(const SurfaceHit& hit, Vec3f w) const {
     return evalEmission(materialOf(hit), data_.textures, textureCoordinates(hit).uv);
 }
 
-bool RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& s) const {
+bool RenderScene::sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& s) const {
     const Light& light = lights_[size_t(lightIndex)];
     const auto* area = std::get_if<AreaLight>(&light);
     if (!area) {

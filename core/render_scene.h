@@ -64,8 +64,16 @@ public:
 
     /// Sample the light `lightIndex` as seen from ref; radiance includes textured emission.
     std::optional<LightSample> sampleLight(int lightIndex, Vec3f ref, Vec2f u) const;
-    /// The same sample written into `out`; false (out unspecified) when there is none.
-    bool sampleLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const;
+    /// The same sample written into `out`; false (out unspecified) when there is none. Inline
+    /// for the common case of next-event estimation, an area light of constant emission.
+    bool sampleLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const {
+        const auto* area = std::get_if<AreaLight>(&lights_[size_t(lightIndex)]);
+        if (!area || area->texturedEmission) return sampleAnyLight(lightIndex, ref, u, out);
+        Vec3f barycentric;
+        if (!sampleAreaLight(*area, ref, u, out, barycentric)) return false;
+        out.radiance = area->emission;
+        return !isBlack(out.radiance);
+    }
     /// Solid-angle density at ref of sampleLight producing the area light point `hit`
     /// (light selection not included).
     float areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const;
@@ -86,6 +94,8 @@ private:
         bool flat = false;       // the three vertex normals are equal: ns is the same everywhere
     };
 
+    /// sampleLight for every kind of light (textured emission, punctual lights).
+    bool sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const;
     void prepareMeshes();
     void buildAccel();
     void buildLights();

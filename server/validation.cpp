@@ -186,13 +186,20 @@ pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec) {
     const pb::SceneSource& scene = spec.scene();
     pb::SceneSource* echo = out.mutable_scene();
     switch (scene.source_case()) {
-        case pb::SceneSource::kSceneName: echo->set_scene_name(scene.scene_name()); break;
-        case pb::SceneSource::kGlb: echo->set_glb(""); break;
+        case pb::SceneSource::kSceneName:
+            echo->set_scene_name(scene.scene_name());
+            break;
+        case pb::SceneSource::kGlb:
+            echo->set_glb("");
+            break;
         case pb::SceneSource::kGltf:
-            for (const auto& r : scene.gltf().resources()) echo->mutable_gltf()->add_resources()->set_uri(r.uri());
+            for (const auto& r : scene.gltf().resources())
+                echo->mutable_gltf()->add_resources()->set_uri(r.uri());
             echo->mutable_gltf();
             break;
-        default: out.clear_scene(); break;
+        default:
+            out.clear_scene();
+            break;
     }
     return out;
 }

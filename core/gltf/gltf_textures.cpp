@@ -39,6 +39,12 @@ void applySampler(LoadContext& ctx, int samplerIndex, Texture& texture) {
     texture.filter = filterMode(ctx, sampler.magFilter, samplerIndex);
 }
 
+/// Colour channels of RGBA data; alpha is linear in glTF.
+void convertSrgbToLinear(std::vector<float>& rgba) {
+    for (size_t i = 0; i < rgba.size(); ++i)
+        if (i % 4 != 3) rgba[i] = srgbToLinear(rgba[i]);
+}
+
 std::string textureName(const tinygltf::Model& model, int imageIndex) {
     const tinygltf::Image& image = model.images[size_t(imageIndex)];
     if (!image.name.empty()) return image.name;
@@ -59,6 +65,14 @@ const DecodedImage& TextureCache::image(int imageIndex) {
     return it->second;
 }
 
+void TextureCache::chargePixels(const DecodedImage& decoded, const std::string& what) {
+    uint64_t pixels = uint64_t(decoded.width) * uint64_t(decoded.height);
+    uint64_t limit = ctx_.limits.maxTotalTexturePixels;
+    if (pixels > limit - std::min(ctx_.texturePixels, limit))
+        failf("{}: textures exceed the limit of {} pixels in all", what, limit);
+    ctx_.texturePixels += pixels;
+}
+
 int TextureCache::get(int textureIndex, ColorSpace space, const std::string& what) {
     if (textureIndex < 0 || size_t(textureIndex) >= ctx_.model.textures.size())
         failf("{}: texture index {} is out of range (the file has {})", what, textureIndex,
@@ -71,20 +85,13 @@ int TextureCache::get(int textureIndex, ColorSpace space, const std::string& wha
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
 
     const DecodedImage& decoded = image(gltfTexture.source);
-    uint64_t pixels = uint64_t(decoded.width) * uint64_t(decoded.height);
-    if (pixels > ctx_.limits.maxTotalTexturePixels -
-                     std::min(ctx_.texturePixels, ctx_.limits.maxTotalTexturePixels))
-        failf("{}: textures exceed the limit of {} pixels in all", what,
-              ctx_.limits.maxTotalTexturePixels);
-    ctx_.texturePixels += pixels;
+    chargePixels(decoded, what);
     Texture texture;
     texture.name = textureName(ctx_.model, gltfTexture.source);
     texture.width = decoded.width;
     texture.height = decoded.height;
     texture.rgba = decoded.rgba;
-    if (space == ColorSpace::Srgb)
-        for (size_t i = 0; i < texture.rgba.size(); ++i)
-            if (i % 4 != 3) texture.rgba[i] = srgbToLinear(texture.rgba[i]);  // alpha is linear
+    if (space == ColorSpace::Srgb) convertSrgbToLinear(texture.rgba);
     applySampler(ctx_, gltfTexture.sampler, texture);
 
     int index = int(ctx_.scene.textures.size());

@@ -25,6 +25,8 @@ class TextureCache {
 
   private:
     const DecodedImage& image(int imageIndex);
+    /// Counts a new texture against GltfLoadLimits::maxTotalTexturePixels.
+    void chargePixels(const DecodedImage& decoded, const std::string& what);
 
     LoadContext& ctx_;
     const TinyGltfIo& io_;

@@ -10,13 +10,13 @@ namespace partita {
 
 class FilmSink {
 public:
-    FilmSink(Film& film, int x, int y) : film_(film), x_(x), y_(y) {}
-    void add(PathType type, Rgb value) { film_.addSample(x_, y_, type, value); }
+    /// Pixel (x, y) must lie inside the film.
+    FilmSink(Film& film, int x, int y) : pixel_(film.pixel(x, y)) {}
+    void add(PathType type, Rgb value) { pixel_.add(type, value); }
     void add(const PathContribution& c) { add(c.type, c.value); }
 
 private:
-    Film& film_;
-    int x_, y_;
+    Film::Pixel pixel_;
 };
 
 }  // namespace partita

@@ -46,6 +46,10 @@ public:
         : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
 
     void run(Ray ray) {
+        // Ray directions are unit vectors from here on: the primary is normalised once, and
+        // sampled BSDF directions are unit (up to rounding), so wo needs no normalisation at
+        // each vertex.
+        ray.d = normalize(ray.d);
         SurfaceHit hit;
         for (int depth = 0;; ++depth) {
             ++counters_.rays;
@@ -58,7 +62,7 @@ public:
             Bsdf bsdf = scene_.bsdfAt(hit);
             bool delta = bsdf.isDelta();
             PathType typeHere = state_.type.withVertex(delta);
-            BoundBsdf bound(bsdf, -normalize(ray.d));
+            BoundBsdf bound(bsdf, -ray.d);
             RayOrigins origins(hit.p, hit.ng);
             // The point on a light and the continuation are both sampled before either is used
             // (drawing the random numbers in the same order, light first): the two are
@@ -70,8 +74,20 @@ public:
             Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
             BsdfSample bs;
             bool continues = bound.sample(uc, u, bs);
-            if (lightIndex >= 0) addNextEvent(hit, bound, origins, light, lightIndex, typeHere);
-            if (!continues || !continuePath(hit, bs, origins, typeHere, ray, depth)) return;
+            // The connection's contribution up to visibility, from the path state before the
+            // continuation updates it.
+            Connection connection;
+            bool connects = lightIndex >= 0 && connect(hit, bound, origins, light, lightIndex, connection);
+            continues = continues && continuePath(hit, bs, origins, typeHere, ray, depth);
+            // The shadow ray goes last, so that it and the continuation's closest-hit query run
+            // back to back: the processor overlaps the end of one traversal with the start of
+            // the next, as it does for the independent rays of a bare Embree loop. The order of
+            // the contributions is unchanged (this one, then the next vertex's emission).
+            if (connects) {
+                ++counters_.rays;
+                if (!scene_.occluded(connection.shadow)) report(typeHere, connection.value, true);
+            }
+            if (!continues) return;
         }
     }
 
@@ -117,20 +133,26 @@ private:
         return light;
     }
 
-    /// Next-event estimation, second half: the BSDF, visibility and the MIS-weighted
-    /// contribution of the sampled light point.
-    void addNextEvent(const SurfaceHit& hit, const BoundBsdf& bsdf, RayOrigins& origins, const LightSample& ls,
-                      int light, PathType typeHere) {
+    /// A next-event connection, waiting for its shadow ray.
+    struct Connection {
+        Ray shadow;
+        Rgb value;  // the MIS-weighted contribution if the light is visible
+    };
+
+    /// Next-event estimation, second half: the BSDF and the MIS weight of the sampled light
+    /// point, and the shadow ray that decides whether it counts. False when it contributes
+    /// nothing whatever the visibility.
+    bool connect(const SurfaceHit& hit, const BoundBsdf& bsdf, RayOrigins& origins, const LightSample& ls, int light,
+                 Connection& out) {
         // The pdf is needed only if the light is visible, but with f it costs little more.
         BoundBsdf::Value b = bsdf.evalPdf(ls.wi);
         Rgb f = b.f * absDot(ls.wi, hit.ns);
-        if (isBlack(f)) return;
-        ++counters_.rays;
-        Ray shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
-        if (scene_.occluded(shadow)) return;
+        if (isBlack(f)) return false;
+        out.shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
         float lightPdf = scene_.lightSelectionPmf(light) * ls.pdf;
         float weight = ls.isDelta ? 1.0f : powerHeuristic(lightPdf, b.pdf);
-        report(typeHere, state_.beta * f * ls.radiance * (weight / lightPdf), true);
+        out.value = state_.beta * f * ls.radiance * (weight / lightPdf);
+        return true;
     }
 
     /// Follows the sampled BSDF direction; false when the path ends here.
