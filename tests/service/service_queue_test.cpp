@@ -2,6 +2,8 @@
 // shared pool; an upload is dropped from the store once its job has finished.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "service_client.h"
 
 namespace partita::test {
@@ -88,7 +90,11 @@ TEST(ServiceQueue, JobsRenderConcurrentlyAndUploadsAreDroppedWhenDone) {
     EXPECT_TRUE(allRendering);
     for (const auto& id : ids) {
         EXPECT_EQ(waitForEnd(*stub, id).state(), pb::JOB_STATE_DONE);
-        EXPECT_FALSE(fs::exists(store.path() / "jobs" / id / "scene.upload"));
+        // Dropped right after the DONE transition is recorded (never before: a crash in between
+        // must leave a re-queued job its scene).
+        fs::path upload = store.path() / "jobs" / id / "scene.upload";
+        for (int i = 0; i < 200 && fs::exists(upload); ++i) std::this_thread::sleep_for(10ms);
+        EXPECT_FALSE(fs::exists(upload));
         EXPECT_TRUE(fs::exists(store.path() / "jobs" / id / "result.exr"));
     }
 }

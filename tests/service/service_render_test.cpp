@@ -47,7 +47,7 @@ TEST(ServiceRender, PreviewsArriveAndTheFinalFrameIsTheResult) {
     Daemon daemon(store.path());
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    pb::JobSpec spec = sceneSpec("cornell", 64, 48, 64, 3);
+    pb::JobSpec spec = sceneSpec("cornell", 96, 72, 64, 3);
     spec.set_preview_interval_seconds(0.1);
     Submitted job = submit(*stub, spec);
     ASSERT_TRUE(job.status.ok()) << job.status.error_message();
@@ -70,11 +70,11 @@ TEST(ServiceRender, PreviewsArriveAndTheFinalFrameIsTheResult) {
         ASSERT_GE(f.layers_size(), 2) << "combined and at least one type layer";
         EXPECT_EQ(f.layers(0).name(), "combined");
         for (const auto& layer : f.layers()) {
-            EXPECT_EQ(layer.width(), 64);
-            EXPECT_EQ(layer.height(), 48);
+            EXPECT_EQ(layer.width(), 96);
+            EXPECT_EQ(layer.height(), 72);
             ASSERT_GE(layer.png().size(), 8u);
             EXPECT_EQ(layer.png().substr(1, 3), "PNG");
-            EXPECT_EQ(layer.raw_rgb_f32().size(), size_t(64 * 48 * 3 * 4));
+            EXPECT_EQ(layer.raw_rgb_f32().size(), size_t(96 * 72 * 3 * 4));
             if (&layer != &f.layers(0)) {
                 EXPECT_TRUE(layer.name() == "other" ||
                             (layer.name().front() == 'L' && layer.name().back() == 'E'))
@@ -92,7 +92,7 @@ TEST(ServiceRender, PreviewsArriveAndTheFinalFrameIsTheResult) {
     ASSERT_TRUE(png.status.ok());
     LayeredImage framePng = readExrBytes(frames.back()->layers(0).png(), "frame.png");
     LayeredImage resultPng = readExrBytes(png.bytes, "preview.png");
-    EXPECT_EQ(framePng.combined.width, 64);
+    EXPECT_EQ(framePng.combined.width, 96);
     EXPECT_EQ(compareImages(framePng, resultPng), "");
 }
 

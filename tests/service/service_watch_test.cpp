@@ -18,7 +18,7 @@ TEST(ServiceWatch, DisconnectingWatcherChangesNothingForOthers) {
     Daemon daemon(store.path());
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    pb::JobSpec spec = sceneSpec("cornell", 96, 72, 48, 2);
+    pb::JobSpec spec = sceneSpec("cornell", 160, 120, 64, 2);
     spec.set_preview_interval_seconds(0.1);
     Submitted job = submit(*stub, spec);
     ASSERT_TRUE(job.status.ok());
