@@ -17,15 +17,20 @@ int main(int argc, char** argv) {
     std::string jsonPath;
     app.add_option("--json", jsonPath, "also write the figures as JSON to this file");
     eval::ThroughputOptions tp;
-    auto* throughput = app.add_subcommand("throughput", "path-tracer vs bare Embree ray throughput, thread scaling");
+    auto* throughput = app.add_subcommand(
+        "throughput", "path-tracer vs bare Embree ray throughput, thread scaling");
     throughput->add_option("--scene", tp.scene, "a .gltf/.glb scene")->required();
     throughput->add_option("--width", tp.width)->capture_default_str();
     throughput->add_option("--height", tp.height)->capture_default_str();
-    throughput->add_option("--spp", tp.spp, "samples per pixel per path-tracer run")->capture_default_str();
+    throughput->add_option("--spp", tp.spp, "samples per pixel per path-tracer run")
+        ->capture_default_str();
     throughput->add_option("--max-depth", tp.maxDepth)->capture_default_str();
-    throughput->add_option("--rays", tp.rays, "rays for the bare Embree measurement")->capture_default_str();
-    throughput->add_option("--repeats", tp.repeats, "best of this many runs")->capture_default_str();
-    throughput->add_option("--max-threads", tp.maxThreads, "largest thread count to measure (0: all)")
+    throughput->add_option("--rays", tp.rays, "rays for the bare Embree measurement")
+        ->capture_default_str();
+    throughput->add_option("--repeats", tp.repeats, "best of this many runs")
+        ->capture_default_str();
+    throughput
+        ->add_option("--max-threads", tp.maxThreads, "largest thread count to measure (0: all)")
         ->capture_default_str();
     throughput->add_option("--camera", tp.camera);
     throughput->add_option("--json", jsonPath, "also write the figures as JSON to this file");

@@ -25,7 +25,9 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-double cpuSecondsSince(std::clock_t t) { return double(std::clock() - t) / CLOCKS_PER_SEC; }
+double cpuSecondsSince(std::clock_t t) {
+    return double(std::clock() - t) / CLOCKS_PER_SEC;
+}
 
 /// A single-thread rate measured both ways: by wall clock (what an idle machine shows) and by
 /// process CPU time (which leaves out the time other processes held the core, so it is the
@@ -67,7 +69,8 @@ std::vector<Ray> makeIncoherentRays(const RenderScene& scene, int count) {
     return rays;
 }
 
-Rate measureEmbreeRaysPerSecond(const RenderScene& scene, const std::vector<Ray>& rays, int repeats) {
+Rate measureEmbreeRaysPerSecond(const RenderScene& scene, const std::vector<Ray>& rays,
+                                int repeats) {
     std::vector<float> t(rays.size());
     Rate best;
     for (int r = 0; r < repeats; ++r) {
@@ -113,13 +116,15 @@ PtMeasurement measurePathTracer(const RenderScene& scene, const ThroughputOption
 nlohmann::json runThroughput(const ThroughputOptions& o) {
     RenderScene scene(loadGltfFile(o.scene));
     std::vector<Ray> rays = makeIncoherentRays(scene, o.rays);
-    if (rays.empty()) throw std::runtime_error("could not generate benchmark rays: the scene has no surfaces");
+    if (rays.empty())
+        throw std::runtime_error("could not generate benchmark rays: the scene has no surfaces");
 
     // Interleave the measurements so slow phases of a shared machine hit both alike.
     Rate embree = measureEmbreeRaysPerSecond(scene, rays, o.repeats);
     PtMeasurement one = measurePathTracer(scene, o, 1);
     embree.add(measureEmbreeRaysPerSecond(scene, rays, o.repeats));
-    int hw = o.maxThreads > 0 ? o.maxThreads : int(std::max(1u, std::thread::hardware_concurrency()));
+    int hw =
+        o.maxThreads > 0 ? o.maxThreads : int(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<int> counts = {1};
     for (int n = 2; n <= hw; n *= 2) counts.push_back(n);
     if (counts.back() != hw) counts.push_back(hw);
@@ -135,12 +140,12 @@ nlohmann::json runThroughput(const ThroughputOptions& o) {
     out["embree_rays_per_cpu_s"] = embree.cpu;
     out["pt_rays_per_cpu_s"] = one.rays.cpu;
     out["ratio_cpu"] = one.rays.cpu / embree.cpu;
-    std::printf("scene %s (%dx%d, %d spp per run, best of %d)\n", o.scene.c_str(), o.width, o.height, o.spp,
-                o.repeats);
-    std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n", "embree rtcIntersect1 incoherent",
-                embree.wall / 1e6, embree.cpu / 1e6);
-    std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n", "path tracer (all rays)",
-                one.rays.wall / 1e6, one.rays.cpu / 1e6);
+    std::printf("scene %s (%dx%d, %d spp per run, best of %d)\n", o.scene.c_str(), o.width,
+                o.height, o.spp, o.repeats);
+    std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n",
+                "embree rtcIntersect1 incoherent", embree.wall / 1e6, embree.cpu / 1e6);
+    std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n",
+                "path tracer (all rays)", one.rays.wall / 1e6, one.rays.cpu / 1e6);
     std::printf("  %-34s %12.3f  (target >= 0.6; %.3f by CPU time)\n", "ratio pt / embree",
                 one.rays.wall / embree.wall, one.rays.cpu / embree.cpu);
     // Thread scaling by wall clock. The CPU-time figure says how much of a shortfall is the
@@ -155,8 +160,10 @@ nlohmann::json runThroughput(const ThroughputOptions& o) {
                            {"speedup", m.samples.wall / base.wall},
                            {"samples_per_cpu_s", m.samples.cpu},
                            {"cpu_efficiency", m.samples.cpu / base.cpu}});
-        std::printf("  threads %-3d %12.3f M samples/s   speedup %.2fx  (per CPU second: %.2f of 1 thread's)\n", n,
-                    m.samples.wall / 1e6, m.samples.wall / base.wall, m.samples.cpu / base.cpu);
+        std::printf(
+            "  threads %-3d %12.3f M samples/s   speedup %.2fx  (per CPU second: %.2f of 1 "
+            "thread's)\n",
+            n, m.samples.wall / 1e6, m.samples.wall / base.wall, m.samples.cpu / base.cpu);
     }
     out["threads"] = threads;
     return out;

@@ -11,11 +11,11 @@ namespace partita::eval {
 struct ThroughputOptions {
     std::string scene;
     int width = 320, height = 240;
-    int spp = 4;            // per path-tracer run
+    int spp = 4;  // per path-tracer run
     int maxDepth = 16;
-    int rays = 2'000'000;   // for the bare Embree measurement
-    int repeats = 3;        // best of, to damp noise from other processes
-    int maxThreads = 0;     // thread counts 1, 2, 4, ... up to this (0: the hardware's)
+    int rays = 2'000'000;  // for the bare Embree measurement
+    int repeats = 3;       // best of, to damp noise from other processes
+    int maxThreads = 0;    // thread counts 1, 2, 4, ... up to this (0: the hardware's)
     std::string camera;
 };
 

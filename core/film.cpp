@@ -1,6 +1,13 @@
 // Film storage: a grid of kTileSize x kTileSize tiles. Every tile owns its combined RGB sums and
-// a short vector of per-type buffers, created the first time a path of that type lands in the
-// tile. Edge tiles are allocated full size so that the hot path indexes without clipping.
+// per-type sums for the types that reached it. Edge tiles are allocated full size so that the
+// hot path indexes without clipping.
+//
+// Per-type sums are sparse twice over. A tile keeps only the types that reached it, found through
+// a small hash table (the shipped scenes produce thousands of types, hundreds per tile, so a
+// linear search was a hot spot). And a type's sums live in 4 x 4 pixel blocks, allocated from a
+// per-tile arena when the first sample of that type lands in the block: most types are rare,
+// and a full tile buffer per (tile, type) cost hundreds of megabytes, and the page faults of
+// touching them cost a tenth of the render time.
 //
 // Determinism: nothing in resolve/merge/typeCount depends on the order in which types were
 // first seen in a tile (that order depends on thread scheduling). Type totals are summed over
@@ -11,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -26,41 +34,144 @@ int tileIndex(int x, int y) {
     return (y % Film::kTileSize) * Film::kTileSize + (x % Film::kTileSize);
 }
 
+constexpr int kBlockSide = 4;
+constexpr int kBlockPixels = kBlockSide * kBlockSide;
+constexpr int kBlocksPerRow = Film::kTileSize / kBlockSide;
+constexpr int kTileBlocks = kBlocksPerRow * kBlocksPerRow;
+using Block = std::array<Rgb, kBlockPixels>;
+
+/// The block of tile pixel i (row-major in the tile, so 0 <= i < kTilePixels) and its place in
+/// the block. Unsigned: the divisions become shifts.
+size_t blockOf(int i) {
+    unsigned x = unsigned(i) % Film::kTileSize, y = unsigned(i) / Film::kTileSize;
+    return (y / kBlockSide) * kBlocksPerRow + x / kBlockSide;
+}
+size_t offsetInBlock(int i) {
+    unsigned x = unsigned(i) % Film::kTileSize, y = unsigned(i) / Film::kTileSize;
+    return (y % kBlockSide) * kBlockSide + x % kBlockSide;
+}
+
+/// Zeroed blocks carved out of larger chunks: one allocation per kChunkBlocks blocks, all freed
+/// together. Blocks never move. Chunks are cache-line aligned (a block is three lines), so two
+/// tiles written by different threads never share a line.
+class BlockArena {
+  public:
+    Block* allocate() {
+        if (used_ == kChunkBlocks) {
+            chunks_.push_back(std::make_unique<Chunk>());  // value-initialised: zero
+            used_ = 0;
+        }
+        return &chunks_.back()->blocks[size_t(used_++)];
+    }
+    void clear() {
+        chunks_.clear();
+        used_ = kChunkBlocks;
+    }
+
+  private:
+    static constexpr int kChunkBlocks = 32;  // 6 KiB
+    struct alignas(64) Chunk {
+        std::array<Block, kChunkBlocks> blocks{};
+    };
+    std::vector<std::unique_ptr<Chunk>> chunks_;
+    int used_ = kChunkBlocks;
+};
+
 }  // namespace
 
 // Aligned so that two tiles written by different threads never share a cache line.
 struct alignas(64) Film::Tile {
     struct TypeBuffer {
         PathType type;
-        std::unique_ptr<TilePixels> pixels;
+        std::array<Block*, kTileBlocks> blocks{};  // null where no sample of the type landed
     };
 
     TilePixels combined{};
     std::vector<TypeBuffer> types;
-    // Cache: per number of scattering vertices, the index into `types` of the last type used
-    // with that count. A path reports types of increasing length, so a single "last used" entry
-    // would miss every other sample; keyed by length it hits unless two types of equal length
-    // (differing only in which vertices are specular) alternate.
+    std::vector<uint32_t> slots;  // open addressing over `types`: 0 = empty, else index + 1
+    int slotShift = 64;           // 64 - log2(slots.size())
+    BlockArena arena;
+    // In front of the hash table, per number of scattering vertices, the index into `types` of
+    // the last type used with that count: a path reports types of increasing length, so this
+    // hits unless two types of equal length (differing in which vertices are specular)
+    // alternate.
     std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
 
-    TilePixels& bufferFor(PathType type) {
+    TypeBuffer& bufferFor(PathType type) {
         uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
-        if (last < types.size() && types[last].type == type) return *types[last].pixels;
-        for (size_t i = 0; i < types.size(); ++i) {
-            if (types[i].type == type) {
-                last = uint32_t(i);
-                return *types[i].pixels;
+        if (last < types.size() && types[last].type == type) return types[last];
+        TypeBuffer& t = find(type);
+        last = uint32_t(&t - types.data());
+        return t;
+    }
+
+    /// The sum of `t` at tile pixel i, its block allocated if needed.
+    Rgb& sumAt(TypeBuffer& t, int i) {
+        Block*& b = t.blocks[blockOf(i)];
+        if (!b) b = arena.allocate();
+        return (*b)[offsetInBlock(i)];
+    }
+
+    /// Calls f(i, value) for the pixels of the w x h top-left part of the tile, row by row,
+    /// skipping blocks that were never allocated (their pixels are zero).
+    template <typename F>
+    static void forEachSum(const TypeBuffer& t, int w, int h, F&& f) {
+        for (int y = 0; y < h; ++y)
+            for (int bx = 0; bx * kBlockSide < w; ++bx) {
+                const Block* b = t.blocks[size_t((y / kBlockSide) * kBlocksPerRow + bx)];
+                if (!b) continue;
+                for (int x = bx * kBlockSide; x < std::min(w, (bx + 1) * kBlockSide); ++x)
+                    f(y * Film::kTileSize + x,
+                      (*b)[size_t((y % kBlockSide) * kBlockSide + x % kBlockSide)]);
             }
-        }
-        types.push_back({type, std::make_unique<TilePixels>()});
-        last = uint32_t(types.size() - 1);
-        return *types.back().pixels;
     }
 
     void clear() {
         combined.fill(Rgb(0.0f));
         types.clear();
+        slots.clear();
+        slotShift = 64;
+        arena.clear();
         lastByLength.fill(0);
+    }
+
+  private:
+    // The hash lookup (and insertion), kept out of line so that bufferFor's cache hit inlines.
+    [[gnu::noinline]] TypeBuffer& find(PathType type) {
+        if (!slots.empty()) {
+            const size_t mask = slots.size() - 1;
+            for (size_t s = slotOf(type);; s = (s + 1) & mask) {
+                uint32_t e = slots[s];
+                if (e == 0) break;
+                if (types[e - 1].type == type) return types[e - 1];
+            }
+        }
+        types.push_back({type, {}});
+        if (2 * types.size() > slots.size()) {
+            rehash(std::max<size_t>(16, 4 * types.size()));
+        } else {
+            place(types.size() - 1);
+        }
+        return types.back();
+    }
+    size_t slotOf(PathType type) const {
+        // Fibonacci hashing of both fields; the high bits of the product index the table.
+        uint64_t h = (type.specularMask() ^ uint64_t(type.scatteringVertices()) << 57) *
+                     0x9e3779b97f4a7c15ull;
+        return size_t(h >> slotShift);
+    }
+    void place(size_t index) {
+        const size_t mask = slots.size() - 1;
+        size_t s = slotOf(types[index].type);
+        while (slots[s] != 0) s = (s + 1) & mask;
+        slots[s] = uint32_t(index + 1);
+    }
+    void rehash(size_t minSlots) {
+        size_t pow2 = 16;
+        while (pow2 < minSlots) pow2 *= 2;
+        slots.assign(pow2, 0);
+        slotShift = 64 - std::countr_zero(pow2);
+        for (size_t i = 0; i < types.size(); ++i) place(i);
     }
 };
 
@@ -123,8 +234,8 @@ void Film::Pixel::add(PathType type, Rgb value) {
     // A black sample changes no sum; skipping it also keeps zero-contribution types from
     // allocating buffers.
     if (isBlack(value)) return;
-    tile_->combined[index_] += value;
-    tile_->bufferFor(type)[index_] += value;
+    tile_->combined[size_t(index_)] += value;
+    tile_->sumAt(tile_->bufferFor(type), index_) += value;
 }
 
 void Film::merge(const Film& other) {
@@ -138,7 +249,9 @@ void Film::merge(const Film& other) {
         for (auto& tile : tiles_) {
             for (auto& p : tile->combined) p += p;
             for (auto& t : tile->types)
-                for (auto& p : *t.pixels) p += p;
+                for (Block* b : t.blocks)
+                    if (b)
+                        for (auto& p : *b) p += p;
         }
         dropped_ += dropped_.load();
         return;
@@ -148,8 +261,8 @@ void Film::merge(const Film& other) {
         const Tile& src = *other.tiles_[ti];
         for (int i = 0; i < kTilePixels; ++i) dst.combined[i] += src.combined[i];
         for (const auto& t : src.types) {
-            TilePixels& d = dst.bufferFor(t.type);
-            for (int i = 0; i < kTilePixels; ++i) d[i] += (*t.pixels)[i];
+            Tile::TypeBuffer& d = dst.bufferFor(t.type);
+            Tile::forEachSum(t, kTileSize, kTileSize, [&](int i, Rgb v) { dst.sumAt(d, i) += v; });
         }
     }
     dropped_.fetch_add(other.dropped_.load(), std::memory_order_relaxed);
@@ -185,9 +298,9 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers) const {
         const int x0 = int(ti % tx) * kTileSize, y0 = int(ti / tx) * kTileSize;
         const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
         for (const auto& t : tile.types) {
+            // Pixels without a block are zero: skipping them leaves the double sum unchanged.
             double sum = 0;
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) sum += luminance((*t.pixels)[y * kTileSize + x]);
+            Tile::forEachSum(t, w, h, [&](int, Rgb v) { sum += luminance(v); });
             totals[t.type] += sum;
         }
     }
@@ -217,9 +330,9 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers) const {
                   [](const auto* a, const auto* b) { return a->type < b->type; });
         for (const auto* t : sorted) {
             Image& dst = layers[layerOf.at(t->type)];
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x)
-                    dst.add(x0 + x, y0 + y, (*t->pixels)[y * kTileSize + x]);
+            Tile::forEachSum(*t, w, h, [&](int i, Rgb v) {
+                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v);
+            });
         }
     }
     for (auto& img : layers)

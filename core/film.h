@@ -47,10 +47,10 @@ class Film {
     /// one pixel in a row (the path tracer: all of a pixel's samples in a pass). add() follows
     /// the rules of addSample. Thread safety as for addSample: per tile.
     class Pixel {
-    public:
+      public:
         void add(PathType type, Rgb value);
 
-    private:
+      private:
         friend class Film;
         Pixel(Film& film, Tile& tile, int index) : film_(&film), tile_(&tile), index_(index) {}
         Film* film_;

@@ -77,7 +77,8 @@ inline bool areaLightEmitsTowards(const AreaLight& light, Vec3f w) {
 /// nothing towards ref. Fills everything but `radiance` (the caller evaluates the material,
 /// which may be textured: RenderScene::sampleLight). Inline: next-event estimation calls it
 /// once per path vertex.
-inline bool sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, LightSample& s, Vec3f& barycentric) {
+inline bool sampleAreaLight(const AreaLight& l, Vec3f ref, Vec2f u, LightSample& s,
+                            Vec3f& barycentric) {
     Vec2f b = sampleUniformTriangle(u);
     barycentric = {b.x, b.y, 1 - b.x - b.y};
     Vec3f p = l.p0 * barycentric.x + l.p1 * barycentric.y + l.p2 * barycentric.z;

@@ -44,7 +44,9 @@ inline Vec3f offsetRayOrigin(Vec3f p, Vec3f ng, Vec3f w) {
 }
 
 /// A ray from p (offset) towards direction d.
-inline Ray spawnRay(Vec3f p, Vec3f ng, Vec3f d) { return {offsetRayOrigin(p, ng, d), d, kInf}; }
+inline Ray spawnRay(Vec3f p, Vec3f ng, Vec3f d) {
+    return {offsetRayOrigin(p, ng, d), d, kInf};
+}
 
 /// The shadow ray segment from the offset origin `from` (of point p) to q, offset on p's side of
 /// its normal ngQ. tMax is just below 1 so that q's own surface does not occlude; d is
@@ -63,7 +65,7 @@ inline Ray spawnShadowRay(Vec3f p, Vec3f ngP, Vec3f q, Vec3f ngQ) {
 /// continuation): the offset point depends only on the side of ng a ray leaves towards, so each
 /// side is computed once, when first needed.
 class RayOrigins {
-public:
+  public:
     RayOrigins(Vec3f p, Vec3f ng) : p_(p), ng_(ng) {}
     /// offsetRayOrigin(p, ng, w).
     Vec3f towards(Vec3f w) {
@@ -75,7 +77,7 @@ public:
         return origin_[side];
     }
 
-private:
+  private:
     Vec3f p_, ng_;
     Vec3f origin_[2];
     bool known_[2] = {false, false};

@@ -26,7 +26,8 @@ void embreeError(void*, RTCError code, const char* message) {
 }
 }  // namespace
 
-RenderScene::RenderScene(SceneData data) : data_(std::move(data)), embree_(std::make_unique<Embree>()) {
+RenderScene::RenderScene(SceneData data)
+    : data_(std::move(data)), embree_(std::make_unique<Embree>()) {
     bounds_ = data_.bounds();
     prepareMeshes();
     buildAccel();
@@ -45,7 +46,8 @@ Vec3f shadingNormal(Vec3f n, Vec3f ng) {
 
 /// Whether makeBsdf reads a texture for this material (then the BSDF varies over the surface).
 bool bsdfUsesTextures(const Material& m) {
-    return m.baseColorTexture.valid() || m.metallicRoughnessTexture.valid() || m.transmissionTexture.valid();
+    return m.baseColorTexture.valid() || m.metallicRoughnessTexture.valid() ||
+           m.transmissionTexture.valid();
 }
 }  // namespace
 
@@ -58,19 +60,23 @@ void RenderScene::prepareMeshes() {
     for (size_t m = 0; m < data_.meshes.size(); ++m) {
         const TriangleMesh& mesh = data_.meshes[m];
         MeshInfo& info = meshes_[m];
-        info.material = mesh.material >= 0 ? &data_.materials[size_t(mesh.material)] : &defaultMaterial_;
+        info.material =
+            mesh.material >= 0 ? &data_.materials[size_t(mesh.material)] : &defaultMaterial_;
         info.firstTriangle = first;
         info.constantBsdf = !bsdfUsesTextures(*info.material);
         // Without textures makeBsdf's lobe does not depend on the point, only its frame does.
-        if (info.constantBsdf) info.lobe = makeBsdf(*info.material, data_.textures, SurfacePoint{}).lobe();
+        if (info.constantBsdf)
+            info.lobe = makeBsdf(*info.material, data_.textures, SurfacePoint{}).lobe();
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
             const uint32_t* idx = &mesh.indices[3 * t];
-            const Vec3f &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]], &p2 = mesh.positions[idx[2]];
+            const Vec3f &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]],
+                        &p2 = mesh.positions[idx[2]];
             TriangleInfo& info = triangles_[first + t];
             info.ng = normalize(cross(p1 - p0, p2 - p0));
-            const Vec3f &n0 = mesh.normals[idx[0]], &n1 = mesh.normals[idx[1]], &n2 = mesh.normals[idx[2]];
+            const Vec3f &n0 = mesh.normals[idx[0]], &n1 = mesh.normals[idx[1]],
+                        &n2 = mesh.normals[idx[2]];
             info.flat = n0 == n1 && n1 == n2;
-            if (info.flat) info.ns = shadingNormal(n0, info.ng);
+            if (info.flat) info.shading = Frame::fromNormal(shadingNormal(n0, info.ng));
         }
         first += uint32_t(mesh.triangleCount());
     }
@@ -86,11 +92,14 @@ void RenderScene::buildAccel() {
         const TriangleMesh& mesh = data_.meshes[m];
         RTCGeometry geom = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         // Embree-owned buffers: Embree pads them for its vector loads.
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
-        auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangleCount()));
-        if (!vertices || !indices) throw std::runtime_error("Embree could not allocate geometry buffers");
+        auto* vertices = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                    3 * sizeof(float), mesh.positions.size()));
+        auto* indices = static_cast<uint32_t*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(uint32_t), mesh.triangleCount()));
+        if (!vertices || !indices)
+            throw std::runtime_error("Embree could not allocate geometry buffers");
         for (size_t i = 0; i < mesh.positions.size(); ++i) {
             vertices[3 * i] = mesh.positions[i].x;
             vertices[3 * i + 1] = mesh.positions[i].y;
@@ -118,7 +127,8 @@ void RenderScene::buildLights() {
             light.p2 = mesh.positions[mesh.indices[3 * t + 2]];
             Vec3f n = cross(light.p1 - light.p0, light.p2 - light.p0);
             float len = length(n);
-            if (!(len > 0) || !std::isfinite(len)) continue;  // degenerate: never hit, never sampled
+            if (!(len > 0) || !std::isfinite(len))
+                continue;  // degenerate: never hit, never sampled
             light.normal = n / len;
             light.area = 0.5f * len;
             light.twoSided = mat.doubleSided;
@@ -149,7 +159,8 @@ void RenderScene::buildLights() {
                 break;
             }
             case PunctualLightDesc::Type::Directional:
-                lights_.push_back(DirectionalLight{normalize(desc.direction), intensity, bounds_.center(), radius});
+                lights_.push_back(DirectionalLight{normalize(desc.direction), intensity,
+                                                   bounds_.center(), radius});
                 break;
         }
     }
@@ -190,8 +201,9 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.p = mesh.positions[idx[0]] * w + mesh.positions[idx[1]] * u + mesh.positions[idx[2]] * v;
     const TriangleInfo& info = triangles_[meshes_[meshIndex].firstTriangle + tri];
     hit.ng = info.ng;
-    hit.ns = info.flat ? info.ns
-                       : shadingNormal(mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * u + mesh.normals[idx[2]] * v,
+    hit.ns = info.flat ? info.shading.n
+                       : shadingNormal(mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * u +
+                                           mesh.normals[idx[2]] * v,
                                        info.ng);
     return true;
 }
@@ -243,7 +255,8 @@ bool RenderScene::occluded(const Ray& ray) const {
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-RenderScene::TextureCoordinates RenderScene::interpolateUv(uint32_t m, uint32_t tri, Vec3f w) const {
+RenderScene::TextureCoordinates RenderScene::interpolateUv(uint32_t m, uint32_t tri,
+                                                           Vec3f w) const {
     const TriangleMesh& mesh = data_.meshes[m];
     const uint32_t* idx = &mesh.indices[3 * size_t(tri)];
     TextureCoordinates tc;
@@ -261,10 +274,8 @@ RenderScene::TextureCoordinates RenderScene::textureCoordinates(const SurfaceHit
     return interpolateUv(hit.mesh, hit.triangle, {1 - u - v, u, v});
 }
 
-Bsdf RenderScene::bsdfAt(const SurfaceHit& hit) const {
+Bsdf RenderScene::texturedBsdfAt(const SurfaceHit& hit) const {
     const MeshInfo& info = meshes_[hit.mesh];
-    // makeBsdf's frame and normals, with the lobe it would build (see prepareMeshes).
-    if (info.constantBsdf) return Bsdf(Frame::fromNormal(hit.ns), hit.ng, info.lobe);
     TextureCoordinates tc = textureCoordinates(hit);
     SurfacePoint sp;
     sp.ng = hit.ng;
@@ -296,7 +307,8 @@ bool RenderScene::sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample
     if (!sampleAreaLight(*area, ref, u, s, bary)) return false;
     if (area->texturedEmission) {
         const Material& m = *meshes_[area->mesh].material;
-        s.radiance = evalEmission(m, data_.textures, interpolateUv(area->mesh, area->triangle, bary).uv);
+        s.radiance =
+            evalEmission(m, data_.textures, interpolateUv(area->mesh, area->triangle, bary).uv);
     } else {
         s.radiance = area->emission;
     }

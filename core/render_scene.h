@@ -2,7 +2,7 @@
 // points, and the light list with its power-proportional selection distribution.
 //
 // Hit shading is on the path tracer's hot path, so what does not change per hit is prepared
-// once here: each triangle's unit geometric normal and area-light index (and its shading normal
+// once here: each triangle's unit geometric normal and area-light index (and its shading frame
 // when the three vertex normals agree, as on flat-shaded meshes), and each mesh's BSDF
 // lobe when its material has no texture that the BSDF reads (then a hit only builds the shading
 // frame). Texture coordinates are interpolated only for textured materials.
@@ -23,7 +23,7 @@
 namespace partita {
 
 class RenderScene {
-public:
+  public:
     /// Builds the BVH and the lights. Throws std::runtime_error if Embree fails.
     explicit RenderScene(SceneData data);
     ~RenderScene();
@@ -44,7 +44,15 @@ public:
     void intersectRaw(const Ray* rays, size_t count, float* tHit) const;
 
     const Material& materialOf(const SurfaceHit& hit) const { return *meshes_[hit.mesh].material; }
-    Bsdf bsdfAt(const SurfaceHit& hit) const;
+    Bsdf bsdfAt(const SurfaceHit& hit) const {
+        const MeshInfo& info = meshes_[hit.mesh];
+        // makeBsdf's frame and normals, with the lobe it would build (see prepareMeshes).
+        if (info.constantBsdf) {
+            const TriangleInfo& tri = triangleOf(hit);
+            return Bsdf(tri.flat ? tri.shading : Frame::fromNormal(hit.ns), hit.ng, info.lobe);
+        }
+        return texturedBsdfAt(hit);
+    }
     /// TEXCOORD_0 and TEXCOORD_1 at the hit; (0, 0) and `has` false for a set the mesh lacks.
     struct TextureCoordinates {
         std::array<Vec2f, 2> uv{};
@@ -71,14 +79,14 @@ public:
         if (!area || area->texturedEmission) return sampleAnyLight(lightIndex, ref, u, out);
         Vec3f barycentric;
         if (!sampleAreaLight(*area, ref, u, out, barycentric)) return false;
-        out.radiance = area->emission;
-        return !isBlack(out.radiance);
+        out.radiance = area->emission;  // not black: only emissive materials make area lights
+        return true;
     }
     /// Solid-angle density at ref of sampleLight producing the area light point `hit`
     /// (light selection not included).
     float areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const;
 
-private:
+  private:
     /// Per mesh, prepared once.
     struct MeshInfo {
         const Material* material = nullptr;
@@ -90,10 +98,12 @@ private:
     struct TriangleInfo {
         Vec3f ng;                // unit normal from the winding
         int32_t areaLight = -1;  // index into lights_, or -1
-        Vec3f ns;                // the shading normal when `flat`
-        bool flat = false;       // the three vertex normals are equal: ns is the same everywhere
+        Frame shading;           // when `flat`: the shading frame, its normal the shading normal
+        bool flat = false;       // the three vertex normals are equal: so is the frame everywhere
     };
 
+    /// bsdfAt for a material with textures.
+    Bsdf texturedBsdfAt(const SurfaceHit& hit) const;
     /// sampleLight for every kind of light (textured emission, punctual lights).
     bool sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const;
     void prepareMeshes();

@@ -20,7 +20,8 @@ namespace detail {
 /// a warp's domain a random number falls in); these masks cannot mispredict.
 inline float select(bool c, float a, float b) {
     uint32_t mask = 0u - uint32_t(c);
-    return std::bit_cast<float>((std::bit_cast<uint32_t>(a) & mask) | (std::bit_cast<uint32_t>(b) & ~mask));
+    return std::bit_cast<float>((std::bit_cast<uint32_t>(a) & mask) |
+                                (std::bit_cast<uint32_t>(b) & ~mask));
 }
 
 /// sin and cos of x in [-pi/4, pi/4]: the minimax polynomials of Cephes' sinf/cosf, within about
@@ -29,7 +30,8 @@ inline float select(bool c, float a, float b) {
 inline void sinCosQuarterPi(float x, float& s, float& c) {
     float z = x * x;
     s = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
-    c = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z + 1.0f;
+    c = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z -
+        0.5f * z + 1.0f;
 }
 }  // namespace detail
 
@@ -54,14 +56,20 @@ inline Vec3f sampleCosineHemisphere(Vec2f u) {
     float z = safeSqrt(1 - d.x * d.x - d.y * d.y);
     return {d.x, d.y, z};
 }
-inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
+inline float cosineHemispherePdf(float cosTheta) {
+    return cosTheta > 0 ? cosTheta * kInvPi : 0;
+}
 
 Vec3f sampleUniformSphere(Vec2f u);
-constexpr float uniformSpherePdf() { return 1.0f / (4.0f * kPi); }
+constexpr float uniformSpherePdf() {
+    return 1.0f / (4.0f * kPi);
+}
 
 /// Uniform directions in the cone around +z with cos(theta) >= cosThetaMax.
 Vec3f sampleUniformCone(Vec2f u, float cosThetaMax);
-inline float uniformConePdf(float cosThetaMax) { return 1.0f / (2.0f * kPi * (1.0f - cosThetaMax)); }
+inline float uniformConePdf(float cosThetaMax) {
+    return 1.0f / (2.0f * kPi * (1.0f - cosThetaMax));
+}
 
 /// Uniform barycentrics (b0, b1) on a triangle; b2 = 1 - b0 - b1 (Heitz 2019, low distortion).
 inline Vec2f sampleUniformTriangle(Vec2f u) {
@@ -90,7 +98,7 @@ inline float powerHeuristic(float pdfA, float pdfB) {
 
 /// Discrete distribution proportional to non-negative weights.
 class Distribution1D {
-public:
+  public:
     Distribution1D() = default;
     explicit Distribution1D(std::span<const float> weights);
 
@@ -102,7 +110,7 @@ public:
     uint32_t sample(float u, float* uRemapped = nullptr) const;
     float pmf(uint32_t i) const { return pmf_[i]; }
 
-private:
+  private:
     std::vector<float> pmf_;
     std::vector<double> cdf_;  // cdf_[i] = sum of pmf over [0, i); size + 1 entries
     double total_ = 0;

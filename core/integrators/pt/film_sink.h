@@ -9,13 +9,13 @@
 namespace partita {
 
 class FilmSink {
-public:
+  public:
     /// Pixel (x, y) must lie inside the film.
     FilmSink(Film& film, int x, int y) : pixel_(film.pixel(x, y)) {}
     void add(PathType type, Rgb value) { pixel_.add(type, value); }
     void add(const PathContribution& c) { add(c.type, c.value); }
 
-private:
+  private:
     Film::Pixel pixel_;
 };
 

@@ -13,56 +13,58 @@ namespace {
 
 Rgb beerLambert(Rgb sigmaA, float distance) {
     if (isBlack(sigmaA)) return Rgb(1.0f);
-    return {std::exp(-sigmaA.x * distance), std::exp(-sigmaA.y * distance), std::exp(-sigmaA.z * distance)};
+    return {std::exp(-sigmaA.x * distance), std::exp(-sigmaA.y * distance),
+            std::exp(-sigmaA.z * distance)};
 }
 
 /// Absorption coefficient of a KHR_materials_volume: attenuationColor is the colour white light
 /// has after travelling attenuationDistance, so sigma_a = -ln(c) / d.
 Rgb absorptionOf(const Material& m) {
-    if (!m.hasVolume || !std::isfinite(m.attenuationDistance) || m.attenuationDistance <= 0) return Rgb(0.0f);
+    if (!m.hasVolume || !std::isfinite(m.attenuationDistance) || m.attenuationDistance <= 0)
+        return Rgb(0.0f);
     Rgb s;
-    for (int k = 0; k < 3; ++k) s[k] = -std::log(std::max(m.attenuationColor[k], 1e-6f)) / m.attenuationDistance;
+    for (int k = 0; k < 3; ++k)
+        s[k] = -std::log(std::max(m.attenuationColor[k], 1e-6f)) / m.attenuationDistance;
     return s;
 }
 
 /// State carried from one vertex of the camera path to the next.
 struct PathState {
-    Rgb beta{1.0f};      // throughput f/p of the path so far
-    PathType type;       // scattering vertices so far, camera first
-    Vec3f prevPoint;     // previous scattering vertex, for the light pdf in MIS
+    Rgb beta{1.0f};   // throughput f/p of the path so far
+    PathType type;    // scattering vertices so far, camera first
+    Vec3f prevPoint;  // previous scattering vertex, for the light pdf in MIS
     float prevBsdfPdf = 0;
     bool prevSpecular = true;  // camera rays count as specular: emitters seen directly get weight 1
     float etaScale = 1;        // radiance scaling from refraction, removed for Russian roulette
     Rgb mediumAbsorption{0.0f};
+    bool inMedium = false;  // mediumAbsorption is not black
     int contributions = 0;
 };
 
 /// Sink: ContributionSink (virtual) or FilmSink (inlined); both have add(const PathContribution&).
 template <typename Sink>
 class PathSampler {
-public:
+  public:
     PathSampler(const RenderScene& scene, Rng& rng, const PathSamplerSettings& settings, Sink& sink,
                 PathCounters& counters)
         : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
 
     void run(Ray ray) {
-        // Ray directions are unit vectors from here on: the primary is normalised once, and
-        // sampled BSDF directions are unit (up to rounding), so wo needs no normalisation at
-        // each vertex.
-        ray.d = normalize(ray.d);
+        // Ray directions are unit vectors: the primary's by contract, and sampled BSDF
+        // directions are unit (up to rounding), so wo needs no normalisation at each vertex.
         SurfaceHit hit;
         for (int depth = 0;; ++depth) {
             ++counters_.rays;
             if (!scene_.intersect(ray, hit)) return;
-            if (!isBlack(state_.mediumAbsorption))
+            if (state_.inMedium)
                 state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray.d));
             addEmission(hit, -ray.d);
             // This hit becomes scattering vertex number depth + 1.
             if (depth + 1 > settings_.maxDepth) return;
             Bsdf bsdf = scene_.bsdfAt(hit);
-            bool delta = bsdf.isDelta();
-            PathType typeHere = state_.type.withVertex(delta);
             BoundBsdf bound(bsdf, -ray.d);
+            bool delta = bound.isDelta();
+            PathType typeHere = state_.type.withVertex(delta);
             RayOrigins origins(hit.p, hit.ng);
             // The point on a light and the continuation are both sampled before either is used
             // (drawing the random numbers in the same order, light first): the two are
@@ -74,24 +76,12 @@ public:
             Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
             BsdfSample bs;
             bool continues = bound.sample(uc, u, bs);
-            // The connection's contribution up to visibility, from the path state before the
-            // continuation updates it.
-            Connection connection;
-            bool connects = lightIndex >= 0 && connect(hit, bound, origins, light, lightIndex, connection);
-            continues = continues && continuePath(hit, bs, origins, typeHere, ray, depth);
-            // The shadow ray goes last, so that it and the continuation's closest-hit query run
-            // back to back: the processor overlaps the end of one traversal with the start of
-            // the next, as it does for the independent rays of a bare Embree loop. The order of
-            // the contributions is unchanged (this one, then the next vertex's emission).
-            if (connects) {
-                ++counters_.rays;
-                if (!scene_.occluded(connection.shadow)) report(typeHere, connection.value, true);
-            }
-            if (!continues) return;
+            if (lightIndex >= 0) addNextEvent(hit, bound, origins, light, lightIndex, typeHere);
+            if (!continues || !continuePath(hit, bs, origins, typeHere, ray, depth)) return;
         }
     }
 
-private:
+  private:
     void report(PathType type, Rgb value, bool viaNextEvent) {
         int index = state_.contributions++;
         if constexpr (requires { sink_.add(type, value); }) {
@@ -116,7 +106,8 @@ private:
         if (isBlack(le)) return;
         float weight = 1;
         if (!state_.prevSpecular) {
-            float lightPdf = scene_.lightSelectionPmf(light) * scene_.areaLightPdf(light, state_.prevPoint, hit);
+            float lightPdf =
+                scene_.lightSelectionPmf(light) * scene_.areaLightPdf(light, state_.prevPoint, hit);
             weight = powerHeuristic(state_.prevBsdfPdf, lightPdf);
         }
         report(state_.type, state_.beta * le * weight, false);
@@ -133,31 +124,25 @@ private:
         return light;
     }
 
-    /// A next-event connection, waiting for its shadow ray.
-    struct Connection {
-        Ray shadow;
-        Rgb value;  // the MIS-weighted contribution if the light is visible
-    };
-
-    /// Next-event estimation, second half: the BSDF and the MIS weight of the sampled light
-    /// point, and the shadow ray that decides whether it counts. False when it contributes
-    /// nothing whatever the visibility.
-    bool connect(const SurfaceHit& hit, const BoundBsdf& bsdf, RayOrigins& origins, const LightSample& ls, int light,
-                 Connection& out) {
+    /// Next-event estimation, second half: the BSDF, visibility and the MIS-weighted
+    /// contribution of the sampled light point.
+    void addNextEvent(const SurfaceHit& hit, const BoundBsdf& bsdf, RayOrigins& origins,
+                      const LightSample& ls, int light, PathType typeHere) {
         // The pdf is needed only if the light is visible, but with f it costs little more.
         BoundBsdf::Value b = bsdf.evalPdf(ls.wi);
         Rgb f = b.f * absDot(ls.wi, hit.ns);
-        if (isBlack(f)) return false;
-        out.shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
+        if (isBlack(f)) return;
+        ++counters_.rays;
+        Ray shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
+        if (scene_.occluded(shadow)) return;
         float lightPdf = scene_.lightSelectionPmf(light) * ls.pdf;
         float weight = ls.isDelta ? 1.0f : powerHeuristic(lightPdf, b.pdf);
-        out.value = state_.beta * f * ls.radiance * (weight / lightPdf);
-        return true;
+        report(typeHere, state_.beta * f * ls.radiance * (weight / lightPdf), true);
     }
 
     /// Follows the sampled BSDF direction; false when the path ends here.
-    bool continuePath(const SurfaceHit& hit, const BsdfSample& bs, RayOrigins& origins, PathType typeHere, Ray& ray,
-                      int depth) {
+    bool continuePath(const SurfaceHit& hit, const BsdfSample& bs, RayOrigins& origins,
+                      PathType typeHere, Ray& ray, int depth) {
         state_.beta *= bs.f * (absDot(bs.wi, hit.ns) / bs.pdf);
         if (isBlack(state_.beta) || !isFinite(state_.beta)) return false;
         state_.type = typeHere;
@@ -167,7 +152,9 @@ private:
         if (bs.isTransmission) {
             state_.etaScale *= sqr(bs.eta);
             // Entering when the new direction goes against the outward normal.
-            state_.mediumAbsorption = dot(bs.wi, hit.ng) < 0 ? absorptionOf(scene_.materialOf(hit)) : Rgb(0.0f);
+            state_.mediumAbsorption =
+                dot(bs.wi, hit.ng) < 0 ? absorptionOf(scene_.materialOf(hit)) : Rgb(0.0f);
+            state_.inMedium = !isBlack(state_.mediumAbsorption);
         }
         if (!russianRoulette(depth)) return false;
         ray = {origins.towards(bs.wi), bs.wi, kInf};  // spawnRay(hit.p, hit.ng, wi)
@@ -194,13 +181,14 @@ private:
 
 }  // namespace
 
-void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
-                ContributionSink& sink, PathCounters& counters) {
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
+                const PathSamplerSettings& settings, ContributionSink& sink,
+                PathCounters& counters) {
     PathSampler<ContributionSink>(scene, rng, settings, sink, counters).run(primary);
 }
 
-void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
-                FilmSink& sink, PathCounters& counters) {
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
+                const PathSamplerSettings& settings, FilmSink& sink, PathCounters& counters) {
     PathSampler<FilmSink>(scene, rng, settings, sink, counters).run(primary);
 }
 

@@ -22,34 +22,36 @@ class RenderScene;
 
 struct PathContribution {
     PathType type;
-    Rgb value{0.0f};       // MIS-weighted contribution of this complete path
-    int index = 0;         // ordinal of this contribution within the camera path
+    Rgb value{0.0f};  // MIS-weighted contribution of this complete path
+    int index = 0;    // ordinal of this contribution within the camera path
     bool viaNextEvent = false;
 };
 
 class ContributionSink {
-public:
+  public:
     virtual ~ContributionSink() = default;
     virtual void add(const PathContribution& contribution) = 0;
 };
 
 struct PathSamplerSettings {
-    int maxDepth = 16;          // maximum number of scattering vertices
-    int rouletteStartDepth = 3; // Russian roulette from this many scattering vertices on
+    int maxDepth = 16;           // maximum number of scattering vertices
+    int rouletteStartDepth = 3;  // Russian roulette from this many scattering vertices on
 };
 
 struct PathCounters {
     uint64_t rays = 0;  // closest-hit plus occlusion queries
 };
 
-/// Traces the camera path that starts with `primary` and reports its contributions.
-void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
-                ContributionSink& sink, PathCounters& counters);
+/// Traces the camera path that starts with `primary` (a unit direction, as Camera::generateRay
+/// gives) and reports its contributions.
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
+                const PathSamplerSettings& settings, ContributionSink& sink,
+                PathCounters& counters);
 
 class FilmSink;
 /// The same path, its contributions added straight to one film pixel: the path tracer's hot
 /// loop, without a virtual call per contribution (the sampler is compiled for both sinks).
-void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng, const PathSamplerSettings& settings,
-                FilmSink& sink, PathCounters& counters);
+void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
+                const PathSamplerSettings& settings, FilmSink& sink, PathCounters& counters);
 
 }  // namespace partita

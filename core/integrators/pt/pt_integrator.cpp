@@ -28,7 +28,7 @@ struct PassRange {
 };
 
 class PathTracerRun {
-public:
+  public:
     explicit PathTracerRun(const RenderContext& ctx)
         : ctx_(ctx), film_(ctx.settings.width, ctx.settings.height) {
         samplerSettings_.maxDepth = ctx.settings.maxDepth;
@@ -39,8 +39,8 @@ public:
         bool timed = s.budgetKind == BudgetKind::Seconds;
         uint64_t targetSpp = timed ? UINT64_MAX : uint64_t(s.budget);
         double pixels = double(s.width) * s.height;
-        ProgressReporter progress(ctx_.observer, "render", "samples", timed ? 0 : pixels * double(targetSpp),
-                                  timed ? s.budget : 0);
+        ProgressReporter progress(ctx_.observer, "render", "samples",
+                                  timed ? 0 : pixels * double(targetSpp), timed ? s.budget : 0);
         auto start = std::chrono::steady_clock::now();
         auto lastPreview = start;
         uint64_t passSpp = 1;
@@ -57,20 +57,22 @@ public:
             double elapsed = secondsSince(start);
             if (timed && elapsed >= s.budget) break;
             passSpp = nextPassSize(passSeconds / double(end - begin), elapsed);
-            if (s.previewIntervalSeconds > 0 && secondsSince(lastPreview) >= s.previewIntervalSeconds &&
-                sppDone_ < targetSpp) {
+            if (s.previewIntervalSeconds > 0 &&
+                secondsSince(lastPreview) >= s.previewIntervalSeconds && sppDone_ < targetSpp) {
                 lastPreview = std::chrono::steady_clock::now();
-                ctx_.observer.onPreview(film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers), stats(elapsed));
+                ctx_.observer.onPreview(film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers),
+                                        stats(elapsed));
             }
         }
         progress.flush();
         RenderResult result;
-        result.image = film_.resolve(1.0f / float(std::max<uint64_t>(1, sppDone_)), s.maxTypeLayers);
+        result.image =
+            film_.resolve(1.0f / float(std::max<uint64_t>(1, sppDone_)), s.maxTypeLayers);
         result.stats = stats(secondsSince(start));
         return result;
     }
 
-private:
+  private:
     static double secondsSince(std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     }
@@ -79,7 +81,8 @@ private:
     uint64_t nextPassSize(double secondsPerSpp, double elapsed) const {
         const RenderSettings& s = ctx_.settings;
         double window = s.previewIntervalSeconds > 0 ? s.previewIntervalSeconds : 1.0;
-        if (s.budgetKind == BudgetKind::Seconds) window = std::min(window, std::max(0.0, s.budget - elapsed));
+        if (s.budgetKind == BudgetKind::Seconds)
+            window = std::min(window, std::max(0.0, s.budget - elapsed));
         if (!(secondsPerSpp > 0)) return 1;
         return uint64_t(std::clamp(window / secondsPerSpp, 1.0, 1024.0));
     }
@@ -89,14 +92,16 @@ private:
         size_t tileCount = size_t(tilesX) * film_.tilesY();
         ctx_.pool.parallelFor(tileCount, [&](size_t tile) {
             ctx_.throwIfCancelled();
-            int x0 = int(tile % tilesX) * Film::kTileSize, y0 = int(tile / tilesX) * Film::kTileSize;
+            int x0 = int(tile % tilesX) * Film::kTileSize,
+                y0 = int(tile / tilesX) * Film::kTileSize;
             int x1 = std::min(x0 + Film::kTileSize, film_.width());
             int y1 = std::min(y0 + Film::kTileSize, film_.height());
             PathCounters counters;
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) renderPixel(x, y, range, counters);
             rays_.fetch_add(counters.rays, std::memory_order_relaxed);
-            progress.advance(double(x1 - x0) * (y1 - y0) * double(range.endSample - range.firstSample));
+            progress.advance(double(x1 - x0) * (y1 - y0) *
+                             double(range.endSample - range.firstSample));
         });
     }
 
@@ -137,14 +142,16 @@ private:
 
 }  // namespace
 
-RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) { return PathTracerRun(ctx).run(); }
+RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) {
+    return PathTracerRun(ctx).run();
+}
 
 void registerPathTracer() {
-    AlgorithmRegistry::instance().add({"pt",
-                                       "unidirectional path tracer with next-event estimation and MIS "
-                                       "(the reference; per-type layers)",
-                                       BudgetKind::SamplesPerPixel,
-                                       [] { return std::make_unique<PathTracerAlgorithm>(); }});
+    AlgorithmRegistry::instance().add(
+        {"pt",
+         "unidirectional path tracer with next-event estimation and MIS "
+         "(the reference; per-type layers)",
+         BudgetKind::SamplesPerPixel, [] { return std::make_unique<PathTracerAlgorithm>(); }});
 }
 
 }  // namespace partita
