@@ -36,9 +36,11 @@ demo: build
 	@echo "demo: out/demo.exr (radiance, one layer per path type), out/demo.png, out/demo.json, out/previews/"
 
 bench: deps
-	@cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DPARTITA_BUILD_TESTS=OFF -DPARTITA_BUILD_BENCH=ON >/dev/null
+	@cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DPARTITA_BUILD_TESTS=OFF -DPARTITA_BUILD_BENCH=ON \
+	  -DPARTITA_BUILD_SERVICE=ON >/dev/null
 	@cmake --build $(BENCH_BUILD) -j$(JOBS)
 	$(BENCH_BUILD)/bench/partita-eval throughput --scene $(SCENE) --json $(BENCH_BUILD)/throughput.json
+	$(BENCH_BUILD)/bench/partita-eval service --json $(BENCH_BUILD)/service.json
 	$(BENCH_BUILD)/bench/partita-bench --benchmark_min_time=0.2
 
 fuzz: deps

@@ -1,6 +1,9 @@
 // partita-eval: measures quality and speed and prints a table; --json F writes the figures.
 //   partita-eval throughput --scene S [--width W --height H --spp N --max-depth N --repeats N
 //                           --max-threads N] [--json F]
+//   partita-eval service [--scene S --width W --height H --spp N --seed N --max-depth N
+//                        --threads N --repeats N --preview-interval S --jobs N
+//                        --small-scene NAME] [--json F]      (built with PARTITA_BUILD_SERVICE)
 // (`reference` and `quality` arrive with BDPT and the MCMC algorithms.)
 #include <CLI/CLI.hpp>
 
@@ -8,8 +11,38 @@
 #include <fstream>
 
 #include "throughput.h"
+#ifdef PARTITA_EVAL_SERVICE
+#include "service_bench.h"
+#endif
 
 using namespace partita;
+
+#ifdef PARTITA_EVAL_SERVICE
+static CLI::App* addServiceCommand(CLI::App& app, eval::ServiceOptions& o, std::string& json) {
+    auto* cmd = app.add_subcommand(
+        "service", "daemon vs in-process throughput, first preview, submit latency");
+    cmd->add_option("--scene", o.scene, "a .gltf/.glb scene (uploaded with each daemon job)")
+        ->capture_default_str();
+    cmd->add_option("--width", o.width)->capture_default_str();
+    cmd->add_option("--height", o.height)->capture_default_str();
+    cmd->add_option("--spp", o.spp, "samples per pixel of each render")->capture_default_str();
+    cmd->add_option("--seed", o.seed)->capture_default_str();
+    cmd->add_option("--max-depth", o.maxDepth)->capture_default_str();
+    cmd->add_option("--threads", o.threads, "render threads in-process and in partitad (0: all)")
+        ->capture_default_str();
+    cmd->add_option("--repeats", o.repeats, "interleaved in-process/daemon pairs")
+        ->capture_default_str();
+    cmd->add_option("--preview-interval", o.previewInterval, "seconds, for the daemon jobs")
+        ->capture_default_str();
+    cmd->add_option("--jobs", o.jobs, "tiny jobs submitted for the submit latency")
+        ->capture_default_str();
+    cmd->add_option("--small-scene", o.smallScene,
+                    "scene name (daemon's scene root) of the tiny jobs")
+        ->capture_default_str();
+    cmd->add_option("--json", json, "also write the figures as JSON to this file");
+    return cmd;
+}
+#endif
 
 int main(int argc, char** argv) {
     CLI::App app{"partita-eval: the Partita evaluation harness"};
@@ -34,6 +67,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     throughput->add_option("--camera", tp.camera);
     throughput->add_option("--json", jsonPath, "also write the figures as JSON to this file");
+#ifdef PARTITA_EVAL_SERVICE
+    eval::ServiceOptions so;
+    CLI::App* service = addServiceCommand(app, so, jsonPath);
+#endif
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -45,6 +82,9 @@ int main(int argc, char** argv) {
     try {
         nlohmann::json out;
         if (*throughput) out = eval::runThroughput(tp);
+#ifdef PARTITA_EVAL_SERVICE
+        if (*service) out = eval::runServiceBench(so);
+#endif
         if (!jsonPath.empty()) {
             std::ofstream f(jsonPath);
             f << out.dump(2) << "\n";

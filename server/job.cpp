@@ -91,7 +91,13 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
     if (!allowed(record_.state(), next)) return false;
     pb::Job updated = record_;
     updated.set_state(next);
-    updated.set_error(error);
+    if (next == pb::JOB_STATE_QUEUED) {
+        // Back in the queue: nothing failed. Why it was re-queued is a note, not an error.
+        updated.clear_error();
+        updated.set_note(note);
+    } else {
+        updated.set_error(error);
+    }
     int64_t now = nowUnixMs();
     if (next == pb::JOB_STATE_LOADING) {
         updated.set_started_unix_ms(now);

@@ -65,8 +65,11 @@ class Job {
 
     /// Moves to `next` when that is a valid step from the current state; returns false (and does
     /// nothing) otherwise. `error` becomes the record's error (cleared when empty); `stats`, when
-    /// given, replaces its statistics. Times are kept: started on LOADING, finished on a terminal
-    /// state. Throws what `persist` throws, leaving the job unchanged.
+    /// given, replaces its statistics. `note` is logged with the transition; going back to QUEUED
+    /// (a re-queue, never an error) it also becomes the record's `note` and the record's error is
+    /// cleared whatever `error` says. The record keeps its latest note through later states.
+    /// Times are kept: started on LOADING, finished on a terminal state. Throws what `persist`
+    /// throws, leaving the job unchanged.
     bool transition(pb::JobState next, const std::string& error, const Persist& persist,
                     const std::string& note = {},
                     const std::map<std::string, double>* stats = nullptr);

@@ -23,6 +23,7 @@ StoredJob toStored(const pb::Job& j, int64_t sequence) {
     s.label = j.spec().label();
     s.spec = j.spec().SerializeAsString();
     s.error = j.error();
+    s.note = j.note();
     s.createdMs = j.created_unix_ms();
     s.startedMs = j.started_unix_ms();
     s.finishedMs = j.finished_unix_ms();
@@ -39,6 +40,7 @@ pb::Job fromStored(const StoredJob& s) {
         spdlog::error("[job {}] its stored spec is damaged; it will fail if it runs", s.id);
     j.set_state(pb::JobState_IsValid(s.state) ? pb::JobState(s.state) : pb::JOB_STATE_FAILED);
     j.set_error(s.error);
+    j.set_note(s.note);
     j.set_created_unix_ms(s.createdMs);
     j.set_started_unix_ms(s.startedMs);
     j.set_finished_unix_ms(s.finishedMs);
@@ -77,7 +79,7 @@ void JobManager::recover() {
             pb::Job record = job->snapshot();
             std::map<std::string, double> stats(record.stats().begin(), record.stats().end());
             stats["requeued"] += 1;
-            job->transition(pb::JOB_STATE_QUEUED, note, persist_, note, &stats);
+            job->transition(pb::JOB_STATE_QUEUED, "", persist_, note, &stats);
             spdlog::warn("{} {}", job->tag(), note);
             state = pb::JOB_STATE_QUEUED;
             ++requeued;

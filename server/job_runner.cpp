@@ -146,7 +146,7 @@ void endUnfinished(Job& job, const Job::Persist& persist, const std::string& err
             pb::Job record = job.snapshot();
             std::map<std::string, double> stats(record.stats().begin(), record.stats().end());
             stats["requeued"] += 1;
-            if (job.transition(pb::JOB_STATE_QUEUED, note, persist, note, &stats))
+            if (job.transition(pb::JOB_STATE_QUEUED, "", persist, note, &stats))
                 spdlog::info("{} re-queued (daemon shutting down); it runs again after restart",
                              job.tag());
         } else {

@@ -66,7 +66,11 @@ void bindJob(Statement& s, const StoredJob& j) {
     s.bind(9, j.startedMs);
     s.bind(10, j.finishedMs);
     s.bindText(11, j.stats);
+    s.bindText(12, j.note);
 }
+
+/// The schema version this code writes (PRAGMA user_version). 1: the first; 2: jobs.note.
+constexpr int64_t kSchemaVersion = 2;
 
 int64_t nowMs() {
     return std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -124,7 +128,8 @@ JobStore::JobStore(const fs::path& dir) : dir_(dir) {
               created_ms INTEGER NOT NULL,
               started_ms INTEGER NOT NULL DEFAULT 0,
               finished_ms INTEGER NOT NULL DEFAULT 0,
-              stats TEXT NOT NULL DEFAULT '{}');
+              stats TEXT NOT NULL DEFAULT '{}',
+              note TEXT NOT NULL DEFAULT '');
             CREATE TABLE IF NOT EXISTS transitions(
               id INTEGER PRIMARY KEY AUTOINCREMENT,
               job_id TEXT NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
@@ -132,8 +137,8 @@ JobStore::JobStore(const fs::path& dir) : dir_(dir) {
               at_ms INTEGER NOT NULL,
               error TEXT NOT NULL DEFAULT '',
               note TEXT NOT NULL DEFAULT '');
-            CREATE INDEX IF NOT EXISTS transitions_job ON transitions(job_id);
-            PRAGMA user_version=1;)sql");
+            CREATE INDEX IF NOT EXISTS transitions_job ON transitions(job_id);)sql");
+        migrate();
         Statement s(db_, "SELECT COALESCE(MAX(seq), 0) FROM jobs");
         if (s.step()) nextSequence_ = s.integer(0) + 1;
     } catch (...) {
@@ -146,6 +151,37 @@ JobStore::JobStore(const fs::path& dir) : dir_(dir) {
 JobStore::~JobStore() {
     sqlite3_close(db_);
     if (lockFd_ >= 0) ::close(lockFd_);
+}
+
+void JobStore::migrate() {
+    int64_t version = 0;
+    {
+        Statement s(db_, "PRAGMA user_version");
+        if (s.step()) version = s.integer(0);
+    }
+    // A newer schema only adds columns (with defaults); every statement here names its columns.
+    if (version >= kSchemaVersion) return;
+    // A store of an older partitad (or a new one, created above with every column): add what is
+    // missing, in one transaction with the new version number.
+    exec("BEGIN IMMEDIATE");
+    try {
+        bool hasNote = false;
+        {
+            Statement s(db_, "SELECT name FROM pragma_table_info('jobs')");
+            while (s.step())
+                if (s.blob(0) == "note") hasNote = true;
+        }
+        if (!hasNote) {
+            exec("ALTER TABLE jobs ADD COLUMN note TEXT NOT NULL DEFAULT ''");
+            spdlog::info("job store '{}': schema upgraded from version {} to {} (jobs.note)",
+                         dir_.string(), version, kSchemaVersion);
+        }
+        exec(("PRAGMA user_version=" + std::to_string(kSchemaVersion)).c_str());
+        exec("COMMIT");
+    } catch (...) {
+        sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+        throw;
+    }
 }
 
 void JobStore::exec(const char* sql) {
@@ -161,7 +197,7 @@ std::vector<StoredJob> JobStore::loadAll() {
     std::lock_guard lock(mutex_);
     Statement s(db_,
                 "SELECT id, seq, state, priority, label, spec, error, created_ms, started_ms, "
-                "finished_ms, stats "
+                "finished_ms, stats, note "
                 "FROM jobs ORDER BY seq");
     std::vector<StoredJob> jobs;
     while (s.step()) {
@@ -177,6 +213,7 @@ std::vector<StoredJob> JobStore::loadAll() {
         j.startedMs = s.integer(8);
         j.finishedMs = s.integer(9);
         j.stats = s.blob(10);
+        j.note = s.blob(11);
         jobs.push_back(std::move(j));
     }
     return jobs;
@@ -205,8 +242,8 @@ void JobStore::insert(const StoredJob& j, const std::string& note) {
     try {
         Statement s(db_,
                     "INSERT INTO jobs(id, seq, state, priority, label, spec, error, created_ms, "
-                    "started_ms, "
-                    "finished_ms, stats) VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+                    "started_ms, finished_ms, stats, note) "
+                    "VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)");
         bindJob(s, j);
         s.step();
         writeTransition(j, note);
@@ -223,8 +260,8 @@ void JobStore::update(const StoredJob& j, const std::string& note) {
     try {
         Statement s(db_,
                     "UPDATE jobs SET seq=?2, state=?3, priority=?4, label=?5, spec=?6, error=?7, "
-                    "created_ms=?8, "
-                    "started_ms=?9, finished_ms=?10, stats=?11 WHERE id=?1");
+                    "created_ms=?8, started_ms=?9, finished_ms=?10, stats=?11, note=?12 "
+                    "WHERE id=?1");
         bindJob(s, j);
         s.step();
         if (sqlite3_changes(db_) != 1) throw std::runtime_error("job store: no job " + j.id);

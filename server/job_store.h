@@ -28,6 +28,7 @@ struct StoredJob {
     std::string label;
     std::string spec;  // serialized partita.v1.JobSpec without scene bytes
     std::string error;
+    std::string note;  // informational, e.g. why the job was re-queued (partita.v1.Job.note)
     int64_t createdMs = 0, startedMs = 0, finishedMs = 0;
     std::string stats;  // JSON object: name -> number
 };
@@ -65,6 +66,9 @@ class JobStore {
 
   private:
     void exec(const char* sql);
+    /// Brings an existing store's schema up to this version (PRAGMA user_version): adds the
+    /// columns an older partitad did not have.
+    void migrate();
     void writeTransition(const StoredJob& job, const std::string& note);
 
     std::filesystem::path dir_;

@@ -6,7 +6,6 @@
 #include <cstring>
 
 #include "image_io.h"
-#include "preview_png.h"
 
 namespace partita::server {
 
@@ -45,10 +44,14 @@ pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
     if (pngs.empty()) {
         // Encoding outside the lock: two watchers racing at most encode twice, never block.
         auto start = std::chrono::steady_clock::now();
-        float exposure = autoExposure(img->combined);
-        pngs.push_back(encodePreviewPng(img->combined, exposure));
-        for (const auto& layer : img->layers)
-            pngs.push_back(encodePreviewPng(layer.image, exposure));
+        const float exposure = autoExposure(img->combined);
+        auto png = [exposure](const Image& image) {
+            std::vector<uint8_t> bytes = encodePng(image, exposure, PngOptions{.fast = true});
+            return std::string(bytes.begin(), bytes.end());
+        };
+        pngs.reserve(img->layers.size() + 1);
+        pngs.push_back(png(img->combined));
+        for (const auto& layer : img->layers) pngs.push_back(png(layer.image));
         spdlog::debug(
             "preview frame {}: {} PNGs of {}x{} in {:.1f} ms", sequence_, pngs.size(),
             img->combined.width, img->combined.height,

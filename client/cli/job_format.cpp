@@ -51,7 +51,8 @@ RenderProgress toRenderProgress(const partita::v1::Progress& p) {
 
 std::string progressText(const partita::v1::Job& job) {
     if (job.state() == partita::v1::JOB_STATE_DONE) return "100%";
-    if (!job.has_progress()) return "-";
+    // A job without progress yet may carry a note, e.g. why it was re-queued.
+    if (!job.has_progress()) return job.note().empty() ? "-" : "- (" + job.note() + ")";
     const auto& p = job.progress();
     char buf[64];
     if (p.total() > 0) {

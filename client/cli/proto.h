@@ -4,7 +4,8 @@
 #pragma once
 
 #if __has_include("partita/v1/partita.grpc.pb.h")
-#include "cli/proto.h"
+#include "partita/v1/partita.grpc.pb.h"
+#include "partita/v1/partita.pb.h"
 #else
 #include "partita.grpc.pb.h"
 #include "partita.pb.h"

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "image_io.h"
 
@@ -245,6 +246,69 @@ TEST_F(ImageIoTest, EncodePngMatchesWritePng) {
     EXPECT_EQ(fromMemory, fromFile);
     size_t i = 0;
     for (float v : img.rgb) ASSERT_EQ(fromFile[i++], encodeSrgb8(v * std::exp2(-0.5f)));
+}
+
+/// Decode PNG bytes held in memory with OIIO.
+std::vector<uint8_t> decodePng(const std::vector<uint8_t>& bytes, int& w, int& h, int& nch) {
+    OIIO::Filesystem::IOMemReader mem(bytes.data(), bytes.size());
+    OIIO::ImageSpec config;
+    OIIO::Filesystem::IOProxy* proxy = &mem;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    return readBytes(OIIO::ImageInput::open("preview.png", &config), w, h, nch);
+}
+
+TEST(Png, FastModeDecodesToTheSamePixelsAsTheDefault) {
+    // Render-like rows (smooth, noisy, black) and every special value; two sizes and exposures.
+    for (auto [w, h, exposure] : {std::tuple{97, 61, -0.5f}, std::tuple{320, 240, 2.0f}}) {
+        Image img = randomImage(w, h, uint32_t(w));
+        for (int y = 0; y < h; y += 3)
+            for (int x = 0; x < w; ++x)
+                img.set(x, y, y % 2 ? Rgb(0.0f) : Rgb(float(x) / float(w), 0.25f, 0.0f));
+        const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                                  std::numeric_limits<float>::infinity(),
+                                  -std::numeric_limits<float>::infinity(),
+                                  -1.0f,
+                                  0.0f,
+                                  std::numeric_limits<float>::denorm_min(),
+                                  1.0f,
+                                  1e30f};
+        for (size_t i = 0; i < std::size(specials); ++i) img.rgb[i * 7] = specials[i];
+
+        const std::vector<uint8_t> normal = encodePng(img, exposure);
+        const std::vector<uint8_t> fast = encodePng(img, exposure, PngOptions{.fast = true});
+        EXPECT_NE(fast, normal) << "the fast mode compresses differently";
+        int w1 = 0, h1 = 0, c1 = 0, w2 = 0, h2 = 0, c2 = 0;
+        const std::vector<uint8_t> a = decodePng(normal, w1, h1, c1);
+        const std::vector<uint8_t> b = decodePng(fast, w2, h2, c2);
+        ASSERT_EQ(w1, w);
+        ASSERT_EQ(h1, h);
+        ASSERT_EQ(c1, 3);
+        ASSERT_EQ(w2, w);
+        ASSERT_EQ(h2, h);
+        ASSERT_EQ(c2, 3);
+        ASSERT_EQ(a, b);
+        size_t i = 0;
+        for (float v : img.rgb) ASSERT_EQ(b[i++], encodeSrgb8(v * std::exp2(exposure))) << i;
+    }
+}
+
+TEST(Png, Srgb8StepsExactlyAtTheCodeBoundaries) {
+    // The table-driven encoder at the floats next to every boundary between two codes (where a
+    // table bucket is ambiguous), against the curve evaluated in double.
+    auto reference = [](double v) {
+        const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+        return int(std::floor(255.0 * e + 0.5));
+    };
+    for (int b = 1; b <= 255; ++b) {
+        const double e = (b - 0.5) / 255.0;
+        const float t = float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+        float v = t;
+        for (int k = 0; k < 4; ++k) v = std::nextafter(v, 0.0f);
+        for (int k = 0; k < 9; ++k, v = std::nextafter(v, 2.0f)) {
+            ASSERT_LT(v, 1.0f);
+            ASSERT_EQ(int(encodeSrgb8(v)), reference(v)) << b << " " << v;
+        }
+    }
 }
 
 TEST_F(ImageIoTest, WritingIntoAMissingDirectoryThrowsAClearError) {

@@ -236,7 +236,7 @@ class Client:
         wait=True (default) waits for the job first; raises PartitaError unless it is done."""
         job = self.wait(job_id) if wait else self.job(job_id)
         if job.state != "done":
-            why = f": {job.error}" if job.error else ""
+            why = f": {job.error}" if job.error else (f" ({job.note})" if job.note else "")
             raise PartitaError(f"job {job_id} is {job.state}{why}", "FAILED_PRECONDITION")
         return exr.read_exr(self.fetch(job_id, "exr")).layers()
 

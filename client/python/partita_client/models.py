@@ -64,12 +64,13 @@ class Job:
     algorithm: str
     label: str
     scene: str              # the scene name, or "upload"
-    error: str
+    error: str              # why it failed
     progress: Optional[Progress]
     stats: Dict[str, float]
     created_unix_ms: int
     started_unix_ms: int
     finished_unix_ms: int
+    note: str = ""          # informational, never an error: e.g. why the job was re-queued
     proto: object = field(default=None, repr=False)
 
     @property
@@ -91,7 +92,8 @@ class Job:
         scene = j.spec.scene.scene_name if which == "scene_name" else ("upload" if which else "")
         return cls(j.id, state_name(j.state), j.spec.algorithm, j.spec.label, scene, j.error,
                    Progress.from_proto(j.progress) if j.HasField("progress") else None,
-                   dict(j.stats), j.created_unix_ms, j.started_unix_ms, j.finished_unix_ms, j)
+                   dict(j.stats), j.created_unix_ms, j.started_unix_ms, j.finished_unix_ms,
+                   note=getattr(j, "note", ""), proto=j)
 
 
 @dataclass
