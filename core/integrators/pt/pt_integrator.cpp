@@ -56,13 +56,17 @@ class PathTracerRun {
             sppDone_ = end;
             double elapsed = secondsSince(start);
             if (timed && elapsed >= s.budget) break;
-            passSpp = nextPassSize(passSeconds / double(end - begin), elapsed);
-            if (s.previewIntervalSeconds > 0 &&
-                secondsSince(lastPreview) >= s.previewIntervalSeconds && sppDone_ < targetSpp) {
+            // A first preview right after the first (one-sample) pass, so that a watcher sees
+            // the image within a moment of the render starting; then one per interval.
+            bool previewDue = s.previewIntervalSeconds > 0 && sppDone_ < targetSpp &&
+                              (begin == 0 || secondsSince(lastPreview) >= s.previewIntervalSeconds);
+            if (previewDue) {
                 lastPreview = std::chrono::steady_clock::now();
                 ctx_.observer.onPreview(film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers),
                                         stats(elapsed));
             }
+            passSpp = nextPassSize(passSeconds / double(end - begin), secondsSince(start),
+                                   secondsSince(lastPreview));
         }
         progress.flush();
         RenderResult result;
@@ -77,10 +81,14 @@ class PathTracerRun {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     }
 
-    /// Passes sized to fill about one preview interval (or the rest of a time budget).
-    uint64_t nextPassSize(double secondsPerSpp, double elapsed) const {
+    /// Passes sized to end when the next preview is due (so previews keep to their interval
+    /// rather than waiting for a pass to finish), about a second without previews, and never
+    /// past a time budget.
+    uint64_t nextPassSize(double secondsPerSpp, double elapsed, double sincePreview) const {
         const RenderSettings& s = ctx_.settings;
-        double window = s.previewIntervalSeconds > 0 ? s.previewIntervalSeconds : 1.0;
+        double window = s.previewIntervalSeconds > 0
+                            ? std::max(0.0, s.previewIntervalSeconds - sincePreview)
+                            : 1.0;
         if (s.budgetKind == BudgetKind::Seconds)
             window = std::min(window, std::max(0.0, s.budget - elapsed));
         if (!(secondsPerSpp > 0)) return 1;
