@@ -52,8 +52,9 @@ public:
     virtual ~RenderObserver() = default;
     virtual void onProgress(const RenderProgress&) {}
     /// A preview of the work so far, at most once per preview interval, and never for the final
-    /// result (that is returned by render()).
-    virtual void onPreview(const LayeredImage&, const RenderStats&) {}
+    /// result (that is returned by render()). The image is the observer's to keep (an algorithm
+    /// resolves a fresh one for each call and moves it in), so keeping it costs no copy.
+    virtual void onPreview(LayeredImage /*image*/, const RenderStats&) {}
 };
 
 struct RenderContext {

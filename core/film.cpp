@@ -19,9 +19,12 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
+
+#include "thread_pool.h"
 
 namespace partita {
 
@@ -285,25 +288,45 @@ Image Film::resolveCombined(float scale) const {
     return img;
 }
 
-LayeredImage Film::resolve(float scale, int maxTypeLayers) const {
-    LayeredImage out;
-    out.combined = resolveCombined(scale);
-
-    // Total luminance per type. std::map keeps the types in PathType order, and the sums run
-    // over tiles and pixels in a fixed order, so the totals do not depend on insertion order.
-    std::map<PathType, double> totals;
+LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) const {
+    // Every step below is either per tile (each tile writes only its own pixels or its own
+    // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
+    // for bit with or without a pool and however the tasks land on threads.
+    auto forEach = [pool](size_t count, const std::function<void(size_t)>& body) {
+        if (pool && count > 1) {
+            pool->parallelFor(count, body);
+        } else {
+            for (size_t i = 0; i < count; ++i) body(i);
+        }
+    };
     const int tx = tilesX();
-    for (size_t ti = 0; ti < tiles_.size(); ++ti) {
+    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
+        x0 = int(ti % size_t(tx)) * kTileSize;
+        y0 = int(ti / size_t(tx)) * kTileSize;
+        w = std::min(kTileSize, width_ - x0);
+        h = std::min(kTileSize, height_ - y0);
+    };
+
+    // Total luminance per type: per tile (in parallel), then summed over tiles in tile order.
+    // std::map keeps the types in PathType order, and the sums run over tiles and pixels in a
+    // fixed order, so the totals do not depend on insertion order.
+    std::vector<std::vector<std::pair<PathType, double>>> tileTotals(tiles_.size());
+    forEach(tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        const int x0 = int(ti % tx) * kTileSize, y0 = int(ti / tx) * kTileSize;
-        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+        int x0, y0, w, h;
+        tileRect(ti, x0, y0, w, h);
+        auto& sums = tileTotals[ti];
+        sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
             // Pixels without a block are zero: skipping them leaves the double sum unchanged.
             double sum = 0;
             Tile::forEachSum(t, w, h, [&](int, Rgb v) { sum += luminance(v); });
-            totals[t.type] += sum;
+            sums.emplace_back(t.type, sum);
         }
-    }
+    });
+    std::map<PathType, double> totals;
+    for (const auto& sums : tileTotals)  // a type occurs at most once per tile
+        for (const auto& [type, sum] : sums) totals[type] += sum;
 
     // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
     std::vector<std::pair<PathType, double>> ranked(totals.begin(), totals.end());
@@ -316,15 +339,24 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers) const {
     std::map<PathType, size_t> layerOf;
     for (size_t i = 0; i < ranked.size(); ++i) layerOf[ranked[i].first] = std::min(i, keep);
 
-    // Unscaled sums, scaled at the end (like the combined image).
-    std::vector<Image> layers(keep + (hasOther ? 1 : 0), Image(width_, height_));
-    std::vector<const Tile::TypeBuffer*> sorted;
-    for (size_t ti = 0; ti < tiles_.size(); ++ti) {
+    // The images, zeroed in parallel (most of the cost of a fresh image is touching its pages).
+    LayeredImage out;
+    std::vector<Image> layers(keep + (hasOther ? 1 : 0));
+    forEach(layers.size() + 1,
+            [&](size_t i) { (i == 0 ? out.combined : layers[i - 1]) = Image(width_, height_); });
+
+    // Per tile: the combined image, the unscaled layer sums, then every layer pixel of the tile
+    // scaled (as scaling whole images after summing: the same operations per pixel).
+    forEach(tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        const int x0 = int(ti % tx) * kTileSize, y0 = int(ti / tx) * kTileSize;
-        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+        int x0, y0, w, h;
+        tileRect(ti, x0, y0, w, h);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                out.combined.set(x0 + x, y0 + y, tile.combined[size_t(y * kTileSize + x)] * scale);
         // Visit the tile's types in PathType order so that "other" sums in a fixed order.
-        sorted.clear();
+        std::vector<const Tile::TypeBuffer*> sorted;
+        sorted.reserve(tile.types.size());
         for (const auto& t : tile.types) sorted.push_back(&t);
         std::sort(sorted.begin(), sorted.end(),
                   [](const auto* a, const auto* b) { return a->type < b->type; });
@@ -334,9 +366,12 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers) const {
                 dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v);
             });
         }
-    }
-    for (auto& img : layers)
-        for (float& v : img.rgb) v *= scale;
+        for (auto& img : layers)
+            for (int y = y0; y < y0 + h; ++y) {
+                float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
+                for (int k = 0; k < w * 3; ++k) row[k] *= scale;
+            }
+    });
 
     out.layers.reserve(layers.size());
     for (size_t i = 0; i < keep; ++i)

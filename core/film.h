@@ -21,6 +21,8 @@
 
 namespace partita {
 
+class ThreadPool;
+
 class Film {
     struct Tile;
 
@@ -69,8 +71,9 @@ class Film {
     /// Layers: the `maxTypeLayers` types (a negative count counts as 0) with the largest total
     /// luminance, in decreasing order of it and named by PathType::toString(), then "other"
     /// (always last) if any type was left out. Independent of the order in which types reached
-    /// a tile; only a pixel's float sum depends on the order of its own samples.
-    LayeredImage resolve(float scale, int maxTypeLayers) const;
+    /// a tile; only a pixel's float sum depends on the order of its own samples. With a `pool`,
+    /// the work is spread over its threads, for the same result bit for bit.
+    LayeredImage resolve(float scale, int maxTypeLayers, ThreadPool* pool = nullptr) const;
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
 

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <system_error>
 
@@ -117,27 +118,45 @@ uint8_t encodeSrgb8Exact(float linear) {
     return uint8_t(std::upper_bound(t.begin(), t.end(), double(linear)) - t.begin());
 }
 
-/// encodeSrgb8Exact through a table: the positive floats below 1 in buckets of their top bits
-/// (8 exponent bits, 10 mantissa bits). The curve is monotone, so a bucket whose two ends give
-/// the same code gives it for every value inside; the few buckets that straddle a code boundary
-/// ask encodeSrgb8Exact itself. The same result for every float, several times faster (the
-/// search dominated encoding a PNG with fast compression).
+/// encodeSrgb8Exact through a small table and one compare. The floats in [2^-13, 1) fall in
+/// buckets of their top bits (exponent and 10 mantissa bits); a bucket is narrower than the gap
+/// between two code boundaries (checked when the table is built), so a value's code is its
+/// bucket's first code, plus one if the value reaches the next boundary. Boundaries are kept as
+/// the smallest float at or above the double threshold, so the float compare decides as the
+/// exact search would. Everything below 2^-13 is below the first boundary (code 0). The same
+/// result for every float as encodeSrgb8Exact, and the table (13 KiB) stays in cache: the
+/// conversion dominated encoding a PNG with fast compression.
 class SrgbTable {
   public:
     SrgbTable() : codes_(kBuckets) {
+        const auto& t = srgbThresholds();
+        for (size_t b = 0; b < t.size(); ++b) {
+            float f = float(t[b]);
+            if (double(f) < t[b]) f = std::nextafter(f, 2.0f);
+            boundary_[b] = f;
+        }
+        boundary_[255] = std::numeric_limits<float>::infinity();
+        if (!(fromBits(kLowBits) < boundary_[0]))
+            throw std::logic_error("sRGB table: the first bucket starts above the first boundary");
         for (uint32_t k = 0; k < kBuckets; ++k) {
-            const uint8_t lo = encodeSrgb8Exact(fromBits(k << kShift)),
-                          hi = encodeSrgb8Exact(fromBits(((k + 1) << kShift) - 1));
-            codes_[k] = lo == hi ? lo : kAmbiguous;
+            const uint8_t lo = encodeSrgb8Exact(fromBits(kLowBits + (k << kShift))),
+                          hi = encodeSrgb8Exact(fromBits(kLowBits + ((k + 1) << kShift) - 1));
+            if (hi > lo + 1) throw std::logic_error("sRGB table: a bucket spans two boundaries");
+            codes_[k] = lo;
         }
     }
     uint8_t operator()(float v) const {
-        if (!(v > 0.0f)) return 0;
-        if (v >= 1.0f) return 255;
+        // Without branches (noisy pixels would mispredict them): the bits clamped into the
+        // table's range, then the values outside it overridden.
         uint32_t bits;
         std::memcpy(&bits, &v, 4);
-        const uint16_t code = codes_[bits >> kShift];
-        return code == kAmbiguous ? encodeSrgb8Exact(v) : uint8_t(code);
+        const uint32_t c = std::min(std::max(bits, kLowBits), kOneBits - 1);
+        const uint32_t lo = codes_[(c - kLowBits) >> kShift];
+        // Below 2^-13, v is below boundary_[0] and lo is 0.
+        uint32_t code = lo + (v >= boundary_[lo] ? 1u : 0u);
+        code = bits >= kOneBits ? 255u : code;  // 1 and above, +infinity
+        code = bits > kInfBits ? 0u : code;     // negative (-0 too) and NaN
+        return uint8_t(code);
     }
 
   private:
@@ -146,10 +165,13 @@ class SrgbTable {
         std::memcpy(&f, &bits, 4);
         return f;
     }
-    static constexpr uint32_t kShift = 13;
-    static constexpr uint32_t kBuckets = 0x3F800000u >> kShift;  // every bucket below 1.0f
-    static constexpr uint16_t kAmbiguous = 0xffff;
-    std::vector<uint16_t> codes_;
+    static constexpr uint32_t kShift = 13;             // 10 mantissa bits kept
+    static constexpr uint32_t kLowBits = 0x39000000u;  // 2^-13
+    static constexpr uint32_t kOneBits = 0x3F800000u;  // 1.0f
+    static constexpr uint32_t kInfBits = 0x7F800000u;  // +infinity
+    static constexpr uint32_t kBuckets = (kOneBits - kLowBits) >> kShift;
+    std::vector<uint8_t> codes_;
+    std::array<float, 256> boundary_{};  // code b steps to b + 1 at boundary_[b]
 };
 
 const SrgbTable& srgbTable() {
@@ -317,10 +339,14 @@ std::vector<uint8_t> encodePng(const Image& image, float exposureStops, const Pn
     spec.attribute("oiio:ColorSpace", "sRGB");
     if (options.fast) {
         // libpng's defaults (level 6, an adaptive choice among all five filters per row) cost
-        // ~4x the time of level 1 with one fixed filter, for ~15% smaller files.
-        constexpr int kPngFilterSub = 0x10;  // PNG_FILTER_SUB of png.h
+        // several times the time of unfiltered rows and zlib's run-length strategy, for files
+        // ~15% larger. Render previews are noisy, so zlib level 1 with the "Sub" filter, which
+        // searched for matches, was both slower and larger than run lengths of raw rows; and
+        // the mostly black type layers are long runs of zeros.
+        constexpr int kPngFilterNone = 0x08;  // PNG_FILTER_NONE of png.h
         spec.attribute("png:compressionLevel", 1);
-        spec.attribute("png:filter", kPngFilterSub);
+        spec.attribute("png:filter", kPngFilterNone);
+        spec.attribute("compression", "rle");  // Z_RLE
     }
     if (!out->set_ioproxy(&proxy) || !out->open("preview.png", spec) ||
         !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close())

@@ -43,8 +43,8 @@ void writePng(const std::filesystem::path& path, const Image& image, float expos
 /// How encodePng compresses. Every mode gives the same pixels; only size and speed differ.
 struct PngOptions {
     /// false: OpenImageIO's defaults (zlib level 6, adaptive filters; what writePng writes).
-    /// true: zlib level 1 and the "Sub" filter on every row: ~3-4x faster for a ~15% larger file
-    /// (preview frames, one PNG per layer, encoded while a render runs).
+    /// true: unfiltered rows and zlib's run-length strategy (Z_RLE): several times faster for a
+    /// somewhat larger file (preview frames, one PNG per layer, encoded while a render runs).
     bool fast = false;
 };
 

@@ -35,8 +35,8 @@ class JobObserver : public RenderObserver {
         job_.publishProgress(p);
     }
 
-    void onPreview(const LayeredImage& image, const RenderStats&) override {
-        job_.publishFrame(image, false);
+    void onPreview(LayeredImage image, const RenderStats&) override {
+        job_.publishFrame(std::move(image), false);
     }
 
     /// Moves forward to `state` (no-op when already there or past it).

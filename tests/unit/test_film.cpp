@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "film.h"
+#include "thread_pool.h"
 
 namespace partita {
 namespace {
@@ -301,6 +302,28 @@ TEST(Film, ConcurrentAddOnDistinctTilesMatchesSerial) {
     addConcurrently(parallel, samples, 4);
     EXPECT_EQ(serial.typeCount(), parallel.typeCount());
     expectBytewiseEqual(serial.resolve(0.5f, 3), parallel.resolve(0.5f, 3));
+}
+
+TEST(Film, ResolveOnAPoolEqualsSerialBitForBit) {
+    // Non-dyadic values, edge tiles on both sides, an odd scale: spreading resolve over threads
+    // must not change a single bit, for any number of kept layers ("other" sums many types).
+    const int w = 83, h = 45;
+    Film film(w, h);
+    addAll(film, randomSamples(w, h, 60000, 11, /*dyadic=*/false));
+    for (int threads : {1, 2, 4}) {
+        ThreadPool pool(threads);
+        for (int keep : {0, 1, 3, 100}) {
+            SCOPED_TRACE(testing::Message() << threads << " threads, keep " << keep);
+            for (float scale : {1.0f, 0.37f})
+                expectBytewiseEqual(film.resolve(scale, keep), film.resolve(scale, keep, &pool));
+        }
+    }
+    // An empty film and one smaller than a tile.
+    ThreadPool pool(2);
+    Film empty(0, 0), small(5, 3);
+    small.addSample(4, 2, typeFromString("LDE"), Rgb(0.3f));
+    expectBytewiseEqual(empty.resolve(1.0f, 2), empty.resolve(1.0f, 2, &pool));
+    expectBytewiseEqual(small.resolve(0.5f, 2), small.resolve(0.5f, 2, &pool));
 }
 
 TEST(Film, MoveAndTypeCount) {

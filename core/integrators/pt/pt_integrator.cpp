@@ -62,8 +62,10 @@ class PathTracerRun {
                               (begin == 0 || secondsSince(lastPreview) >= s.previewIntervalSeconds);
             if (previewDue) {
                 lastPreview = std::chrono::steady_clock::now();
-                ctx_.observer.onPreview(film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers),
-                                        stats(elapsed));
+                // Resolved on the pool, which would sit idle meanwhile.
+                ctx_.observer.onPreview(
+                    film_.resolve(1.0f / float(sppDone_), s.maxTypeLayers, &ctx_.pool),
+                    stats(elapsed));
             }
             passSpp = nextPassSize(passSeconds / double(end - begin), secondsSince(start),
                                    secondsSince(lastPreview));
