@@ -15,7 +15,11 @@ ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, 
       timeBudget_(timeBudgetSeconds),
       minInterval_(minIntervalSeconds),
       start_(Clock::now()),
-      lastReport_(start_) {}
+      lastReport_(start_) {
+    // The phase's start is news in itself (a service moves the job to the phase's state), and it
+    // must reach the observer before anything the phase produces, such as a first preview.
+    observer_.onProgress(snapshotLocked());
+}
 
 double ProgressReporter::elapsedSeconds() const {
     return std::chrono::duration<double>(Clock::now() - start_).count();

@@ -13,6 +13,7 @@ namespace partita {
 class ProgressReporter {
 public:
     /// total <= 0 means unknown (time budgets): the ETA then comes from `timeBudgetSeconds`.
+    /// Reports the start of the phase (nothing done yet) at once.
     ProgressReporter(RenderObserver& observer, std::string phase, std::string unit, double total,
                      double timeBudgetSeconds = 0, double minIntervalSeconds = 0.1);
 
