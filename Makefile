@@ -55,7 +55,7 @@ scenes:
 	/usr/bin/python3 scenes/generate.py
 
 format:
-	@find core tools tests bench -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+	@find core tools tests bench server client -name '*.h' -o -name '*.cpp' | xargs clang-format -i
 
 clean:
 	rm -rf $(BUILD) $(BENCH_BUILD) $(FUZZ_BUILD) out

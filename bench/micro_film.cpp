@@ -10,7 +10,8 @@ namespace {
 void BM_FilmAddSample(benchmark::State& state) {
     Film film(320, 240);
     Rng rng(3, 4);
-    PathType types[4] = {PathType().withVertex(false), PathType().withVertex(false).withVertex(false),
+    PathType types[4] = {PathType().withVertex(false),
+                         PathType().withVertex(false).withVertex(false),
                          PathType().withVertex(true).withVertex(false), PathType()};
     for (auto _ : state) {
         uint32_t r = rng.nextUInt();

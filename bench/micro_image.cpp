@@ -39,12 +39,8 @@ void encode(benchmark::State& state, bool fast) {
     state.SetItemsProcessed(state.iterations());
 }
 
-void BM_EncodePngDefault(benchmark::State& state) {
-    encode(state, false);
-}
-void BM_EncodePngFast(benchmark::State& state) {
-    encode(state, true);
-}
+void BM_EncodePngDefault(benchmark::State& state) { encode(state, false); }
+void BM_EncodePngFast(benchmark::State& state) { encode(state, true); }
 BENCHMARK(BM_EncodePngDefault)->Args({320, 240})->Args({1280, 720})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EncodePngFast)->Args({320, 240})->Args({1280, 720})->Unit(benchmark::kMillisecond);
 

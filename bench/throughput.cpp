@@ -25,9 +25,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-double cpuSecondsSince(std::clock_t t) {
-    return double(std::clock() - t) / CLOCKS_PER_SEC;
-}
+double cpuSecondsSince(std::clock_t t) { return double(std::clock() - t) / CLOCKS_PER_SEC; }
 
 /// A single-thread rate measured both ways: by wall clock (what an idle machine shows) and by
 /// process CPU time (which leaves out the time other processes held the core, so it is the

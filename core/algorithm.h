@@ -48,7 +48,7 @@ struct RenderStats {
 };
 
 class RenderObserver {
-public:
+  public:
     virtual ~RenderObserver() = default;
     virtual void onProgress(const RenderProgress&) {}
     /// A preview of the work so far, at most once per preview interval, and never for the final
@@ -76,14 +76,14 @@ struct RenderResult {
 };
 
 class Algorithm {
-public:
+  public:
     virtual ~Algorithm() = default;
     virtual RenderResult render(const RenderContext& ctx) = 0;
 };
 
 /// The registry of algorithms by name.
 class AlgorithmRegistry {
-public:
+  public:
     using Factory = std::function<std::unique_ptr<Algorithm>()>;
     struct Entry {
         std::string name, description;
@@ -96,7 +96,7 @@ public:
     const Entry* find(const std::string& name) const;
     std::vector<std::string> names() const;
 
-private:
+  private:
     std::map<std::string, Entry> entries_;
 };
 

@@ -54,9 +54,7 @@ Rgb Bsdf::eval(Vec3f wo, Vec3f wi, TransportMode mode) const {
     return BoundBsdf(*this, wo).eval(wi, mode);
 }
 
-float Bsdf::pdf(Vec3f wo, Vec3f wi) const {
-    return BoundBsdf(*this, wo).pdf(wi);
-}
+float Bsdf::pdf(Vec3f wo, Vec3f wi) const { return BoundBsdf(*this, wo).pdf(wi); }
 
 std::optional<BsdfSample> Bsdf::sample(Vec3f wo, float uc, Vec2f u, TransportMode mode) const {
     return BoundBsdf(*this, wo).sample(uc, u, mode);

@@ -26,11 +26,11 @@
 
 namespace partita {
 
-using BsdfLobe = std::variant<LambertLobe, ConductorLobe, DielectricLobe, MirrorLobe, SmoothDielectricLobe,
-                              DiffuseConductorMixLobe>;
+using BsdfLobe = std::variant<LambertLobe, ConductorLobe, DielectricLobe, MirrorLobe,
+                              SmoothDielectricLobe, DiffuseConductorMixLobe>;
 
 class Bsdf {
-public:
+  public:
     Bsdf() = default;
     /// `shading` is the shading frame (z = shading normal), `ng` the geometric normal; both on
     /// the same side.
@@ -49,7 +49,7 @@ public:
     Vec3f geometricNormal() const { return ng_; }
     const BsdfLobe& lobe() const { return lobe_; }
 
-private:
+  private:
     Frame frame_;
     Vec3f ng_{0, 0, 1};
     BsdfLobe lobe_;

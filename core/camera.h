@@ -12,7 +12,7 @@
 namespace partita {
 
 class Camera {
-public:
+  public:
     Camera(const CameraDesc& desc, int width, int height);
 
     int width() const { return width_; }
@@ -32,7 +32,7 @@ public:
     /// (orthographic): the Jacobian between raster and image-plane measure.
     float pixelArea() const { return pixelWidth_ * pixelHeight_; }
 
-private:
+  private:
     bool orthographic_ = false;
     int width_, height_;
     Vec3f origin_, right_, up_, forward_;  // world-space orthonormal basis

@@ -388,8 +388,6 @@ size_t Film::typeCount() const {
     return size_t(std::unique(all.begin(), all.end()) - all.begin());
 }
 
-uint64_t Film::droppedSamples() const {
-    return dropped_.load(std::memory_order_relaxed);
-}
+uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_relaxed); }
 
 }  // namespace partita

@@ -317,9 +317,7 @@ LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* m
     return out;
 }
 
-uint8_t encodeSrgb8(float linear) {
-    return srgbTable()(linear);
-}
+uint8_t encodeSrgb8(float linear) { return srgbTable()(linear); }
 
 std::vector<uint8_t> encodePng(const Image& image, float exposureStops, const PngOptions& options) {
     const int w = image.width, h = image.height;

@@ -30,9 +30,7 @@ float lightPower(const Light& light) {
     return std::visit(Visitor{}, light);
 }
 
-bool isDeltaLight(const Light& light) {
-    return !std::holds_alternative<AreaLight>(light);
-}
+bool isDeltaLight(const Light& light) { return !std::holds_alternative<AreaLight>(light); }
 
 float areaLightPdf(const AreaLight& l, Vec3f ref, Vec3f p) {
     // The density sampleAreaLight gives, computed the same way.

@@ -16,12 +16,8 @@ std::optional<Rgba> lookup(const TextureRef& ref, const std::vector<Texture>& te
     return textures[size_t(ref.texture)].lookup(ref.transformUv(uv[size_t(set)]));
 }
 
-float clamp01(float v) {
-    return std::isfinite(v) ? clamp(v, 0.0f, 1.0f) : 0.0f;
-}
-Rgb clamp01(Rgb c) {
-    return {clamp01(c.x), clamp01(c.y), clamp01(c.z)};
-}
+float clamp01(float v) { return std::isfinite(v) ? clamp(v, 0.0f, 1.0f) : 0.0f; }
+Rgb clamp01(Rgb c) { return {clamp01(c.x), clamp01(c.y), clamp01(c.z)}; }
 
 }  // namespace
 

@@ -12,7 +12,7 @@
 namespace partita {
 
 class PathType {
-public:
+  public:
     static constexpr int kMaxScatteringVertices = 64;
 
     PathType() = default;
@@ -45,7 +45,7 @@ public:
     uint64_t specularMask() const { return specularMask_; }
     auto operator<=>(const PathType&) const = default;
 
-private:
+  private:
     uint64_t specularMask_ = 0;
     uint16_t count_ = 0;
 };
@@ -69,6 +69,7 @@ inline bool PathType::parse(const std::string& text, PathType& out) {
 template <>
 struct std::hash<partita::PathType> {
     size_t operator()(const partita::PathType& t) const noexcept {
-        return std::hash<uint64_t>()(t.specularMask() * 0x9e3779b97f4a7c15ull + t.scatteringVertices());
+        return std::hash<uint64_t>()(t.specularMask() * 0x9e3779b97f4a7c15ull +
+                                     t.scatteringVertices());
     }
 };

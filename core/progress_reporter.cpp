@@ -6,8 +6,9 @@ namespace partita {
 
 using Clock = std::chrono::steady_clock;
 
-ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, std::string unit, double total,
-                                   double timeBudgetSeconds, double minIntervalSeconds)
+ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, std::string unit,
+                                   double total, double timeBudgetSeconds,
+                                   double minIntervalSeconds)
     : observer_(observer),
       phase_(std::move(phase)),
       unit_(std::move(unit)),

@@ -11,7 +11,7 @@
 namespace partita {
 
 class ProgressReporter {
-public:
+  public:
     /// total <= 0 means unknown (time budgets): the ETA then comes from `timeBudgetSeconds`.
     /// Reports the start of the phase (nothing done yet) at once.
     ProgressReporter(RenderObserver& observer, std::string phase, std::string unit, double total,
@@ -24,7 +24,7 @@ public:
     double elapsedSeconds() const;
     double done() const;
 
-private:
+  private:
     RenderProgress snapshotLocked() const;
     RenderObserver& observer_;
     std::string phase_, unit_;

@@ -44,9 +44,7 @@ inline Vec3f offsetRayOrigin(Vec3f p, Vec3f ng, Vec3f w) {
 }
 
 /// A ray from p (offset) towards direction d.
-inline Ray spawnRay(Vec3f p, Vec3f ng, Vec3f d) {
-    return {offsetRayOrigin(p, ng, d), d, kInf};
-}
+inline Ray spawnRay(Vec3f p, Vec3f ng, Vec3f d) { return {offsetRayOrigin(p, ng, d), d, kInf}; }
 
 /// The shadow ray segment from the offset origin `from` (of point p) to q, offset on p's side of
 /// its normal ngQ. tMax is just below 1 so that q's own surface does not occlude; d is

@@ -13,9 +13,11 @@ std::string validateSettings(const RenderSettings& s, const RenderLimits& limits
     else if (!std::isfinite(s.budget) || s.budget <= 0)
         err << "budget must be a positive number, got " << s.budget;
     else if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
-        err << "time budget " << s.budget << " s exceeds the limit of " << limits.maxSeconds << " s";
+        err << "time budget " << s.budget << " s exceeds the limit of " << limits.maxSeconds
+            << " s";
     else if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
-        err << "budget " << s.budget << " per pixel exceeds the limit of " << limits.maxSamplesPerPixel;
+        err << "budget " << s.budget << " per pixel exceeds the limit of "
+            << limits.maxSamplesPerPixel;
     else if (s.budgetKind != BudgetKind::Seconds && s.budget != std::floor(s.budget))
         err << "samples/mutations per pixel must be a whole number, got " << s.budget;
     else if (s.maxDepth < 1 || s.maxDepth > limits.maxDepth)

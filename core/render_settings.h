@@ -20,10 +20,10 @@ struct RenderSettings {
     int maxDepth = 16;  // maximum number of scattering vertices on a path
 
     // Method parameters (paper Section 4-5); ignored by algorithms that do not use them.
-    int partitions = 10;   // K
-    int guideCandidates = 128;  // |Y'|
-    float guideRadius = 10;     // R, pixels
-    float guideEpsilon = 0.01f; // epsilon of Eq. 17
+    int partitions = 10;         // K
+    int guideCandidates = 128;   // |Y'|
+    float guideRadius = 10;      // R, pixels
+    float guideEpsilon = 0.01f;  // epsilon of Eq. 17
 
     int maxTypeLayers = 32;  // film layers kept before the rest merge into "other"
     double previewIntervalSeconds = 1.0;

@@ -15,26 +15,31 @@ CameraDesc resolveCamera(const SceneData& scene, const std::string& name) {
     int index = selectCamera(scene, name);
     if (index < 0) {
         std::string names;
-        for (const auto& c : scene.cameras) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+        for (const auto& c : scene.cameras)
+            names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
         throw std::invalid_argument("no camera named '" + name + "' (the scene has: " +
                                     (names.empty() ? std::string("none") : names) + ")");
     }
     return scene.cameras[size_t(index)];
 }
 
-RenderResult runRender(const RenderScene& scene, const std::string& algorithm, const RenderSettings& settings,
-                       ThreadPool& pool, const std::atomic<bool>& cancel, RenderObserver& observer) {
+RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
+                       const RenderSettings& settings, ThreadPool& pool,
+                       const std::atomic<bool>& cancel, RenderObserver& observer) {
     registerBuiltinAlgorithms();
     const auto* entry = AlgorithmRegistry::instance().find(algorithm);
     if (!entry) throw std::invalid_argument("unknown algorithm '" + algorithm + "'");
-    if (std::string err = validateSettings(settings); !err.empty()) throw std::invalid_argument(err);
-    Camera camera(resolveCamera(scene.data(), settings.cameraName), settings.width, settings.height);
+    if (std::string err = validateSettings(settings); !err.empty())
+        throw std::invalid_argument(err);
+    Camera camera(resolveCamera(scene.data(), settings.cameraName), settings.width,
+                  settings.height);
     auto instance = entry->factory();
     RenderContext ctx{scene, camera, settings, pool, cancel, observer};
     return instance->render(ctx);
 }
 
-std::map<std::string, std::string> describeRender(const std::string& algorithm, const RenderSettings& s,
+std::map<std::string, std::string> describeRender(const std::string& algorithm,
+                                                  const RenderSettings& s,
                                                   const RenderStats& stats) {
     auto str = [](auto v) {
         std::ostringstream o;

@@ -22,11 +22,13 @@ CameraDesc resolveCamera(const SceneData& scene, const std::string& name);
 
 /// Runs `algorithm` (a registered name). Throws std::invalid_argument for an unknown algorithm
 /// or invalid settings, RenderCancelled when cancelled.
-RenderResult runRender(const RenderScene& scene, const std::string& algorithm, const RenderSettings& settings,
-                       ThreadPool& pool, const std::atomic<bool>& cancel, RenderObserver& observer);
+RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
+                       const RenderSettings& settings, ThreadPool& pool,
+                       const std::atomic<bool>& cancel, RenderObserver& observer);
 
 /// Every setting and statistic as strings, for EXR attributes and JSON metadata.
-std::map<std::string, std::string> describeRender(const std::string& algorithm, const RenderSettings& settings,
+std::map<std::string, std::string> describeRender(const std::string& algorithm,
+                                                  const RenderSettings& settings,
                                                   const RenderStats& stats);
 
 }  // namespace partita

@@ -19,7 +19,7 @@ constexpr uint64_t mix64(uint64_t z) {
 }
 
 class Rng {
-public:
+  public:
     Rng() { seed(0, 0); }
     Rng(uint64_t seedValue, uint64_t stream) { seed(seedValue, stream); }
 
@@ -56,9 +56,12 @@ public:
         uint64_t state, inc;
     };
     State saveState() const { return {state_, inc_}; }
-    void restoreState(State s) { state_ = s.state; inc_ = s.inc; }
+    void restoreState(State s) {
+        state_ = s.state;
+        inc_ = s.inc;
+    }
 
-private:
+  private:
     uint64_t state_ = 0, inc_ = 1;
 };
 

@@ -56,14 +56,10 @@ inline Vec3f sampleCosineHemisphere(Vec2f u) {
     float z = safeSqrt(1 - d.x * d.x - d.y * d.y);
     return {d.x, d.y, z};
 }
-inline float cosineHemispherePdf(float cosTheta) {
-    return cosTheta > 0 ? cosTheta * kInvPi : 0;
-}
+inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
 
 Vec3f sampleUniformSphere(Vec2f u);
-constexpr float uniformSpherePdf() {
-    return 1.0f / (4.0f * kPi);
-}
+constexpr float uniformSpherePdf() { return 1.0f / (4.0f * kPi); }
 
 /// Uniform directions in the cone around +z with cos(theta) >= cosThetaMax.
 Vec3f sampleUniformCone(Vec2f u, float cosThetaMax);

@@ -55,7 +55,10 @@ struct PunctualLightDesc {
 
 struct Bounds3f {
     Vec3f lo{kInf}, hi{-kInf};
-    void expand(Vec3f p) { lo = min(lo, p); hi = max(hi, p); }
+    void expand(Vec3f p) {
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
     bool empty() const { return lo.x > hi.x; }
     Vec3f center() const { return (lo + hi) * 0.5f; }
     Vec3f diagonal() const { return hi - lo; }

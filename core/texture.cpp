@@ -42,7 +42,8 @@ Rgba Texture::lookup(Vec2f uv) const {
     // Keep the integer conversion in range for huge coordinates (repeat is periodic anyway).
     fx = std::fmod(fx, float(width) * 1024.f);
     fy = std::fmod(fy, float(height) * 1024.f);
-    if (filter == TextureFilter::Nearest) return texel(int(std::floor(fx + 0.5f)), int(std::floor(fy + 0.5f)));
+    if (filter == TextureFilter::Nearest)
+        return texel(int(std::floor(fx + 0.5f)), int(std::floor(fy + 0.5f)));
     int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
     float tx = fx - x0, ty = fy - y0;
     Rgba a = texel(x0, y0), b = texel(x0 + 1, y0), c = texel(x0, y0 + 1), d = texel(x0 + 1, y0 + 1);

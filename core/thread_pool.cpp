@@ -22,11 +22,12 @@ ThreadPool::~ThreadPool() = default;
 void ThreadPool::parallelFor(size_t count, const std::function<void(size_t)>& body) {
     arena_->arena.execute([&] {
         // One item per task: items are coarse (a tile, a chain), so balance beats overhead.
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1),
-                          [&](const tbb::blocked_range<size_t>& r) {
-                              for (size_t i = r.begin(); i != r.end(); ++i) body(i);
-                          },
-                          tbb::simple_partitioner());
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, count, 1),
+            [&](const tbb::blocked_range<size_t>& r) {
+                for (size_t i = r.begin(); i != r.end(); ++i) body(i);
+            },
+            tbb::simple_partitioner());
     });
 }
 

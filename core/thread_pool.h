@@ -10,7 +10,7 @@
 namespace partita {
 
 class ThreadPool {
-public:
+  public:
     /// `threads` <= 0 means one per hardware thread.
     explicit ThreadPool(int threads = 0);
     ~ThreadPool();
@@ -22,7 +22,7 @@ public:
     /// are done. Exceptions thrown by body propagate to the caller.
     void parallelFor(size_t count, const std::function<void(size_t)>& body);
 
-private:
+  private:
     int threads_;
     struct Arena;
     std::unique_ptr<Arena> arena_;

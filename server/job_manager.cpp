@@ -63,9 +63,7 @@ JobManager::JobManager(JobStore& store, const SceneSource& scenes, const Service
     };
 }
 
-JobManager::~JobManager() {
-    shutdown();
-}
+JobManager::~JobManager() { shutdown(); }
 
 void JobManager::recover() {
     store_.removeOrphanFolders();

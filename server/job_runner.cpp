@@ -75,9 +75,7 @@ SceneData loadScene(const Job& job, const RunContext& ctx) {
 }
 
 /// A float as the shortest decimal that reads back as it (0.01f is 0.01, not 0.009999999776).
-double shortest(float v) {
-    return std::stod(fmt::format("{}", v));
-}
+double shortest(float v) { return std::stod(fmt::format("{}", v)); }
 
 std::string budgetKindName(BudgetKind k) {
     return k == BudgetKind::SamplesPerPixel     ? "spp"

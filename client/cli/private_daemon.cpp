@@ -56,9 +56,7 @@ PrivateDaemon::PrivateDaemon(const Options& options) {
     }
 }
 
-PrivateDaemon::~PrivateDaemon() {
-    stop();
-}
+PrivateDaemon::~PrivateDaemon() { stop(); }
 
 void PrivateDaemon::start(const Options& options) {
     const fs::path partitad = findPartitad();

@@ -24,9 +24,7 @@ std::string lower(std::string s) {
     return s;
 }
 
-bool isDataUri(const std::string& uri) {
-    return lower(uri.substr(0, 5)) == "data:";
-}
+bool isDataUri(const std::string& uri) { return lower(uri.substr(0, 5)) == "data:"; }
 
 /// Every uri of buffers and images that is not a data: URI, in file order, without repeats.
 std::vector<std::string> externalUris(const json& doc) {

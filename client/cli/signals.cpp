@@ -6,9 +6,7 @@ namespace partita::cli {
 
 namespace {
 volatile std::sig_atomic_t gInterrupted = 0;
-void onSignal(int) {
-    gInterrupted = 1;
-}
+void onSignal(int) { gInterrupted = 1; }
 }  // namespace
 
 void installInterruptHandler() {
@@ -19,8 +17,6 @@ void installInterruptHandler() {
     sigaction(SIGTERM, &sa, nullptr);
 }
 
-bool interrupted() {
-    return gInterrupted != 0;
-}
+bool interrupted() { return gInterrupted != 0; }
 
 }  // namespace partita::cli

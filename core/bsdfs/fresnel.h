@@ -32,9 +32,7 @@ inline Rgb fresnelSchlick(float cosTheta, Rgb f0) {
 }
 
 /// Mirror `w` about the normal `n` (both pointing away from the surface).
-inline Vec3f reflect(Vec3f w, Vec3f n) {
-    return -w + n * (2 * dot(w, n));
-}
+inline Vec3f reflect(Vec3f w, Vec3f n) { return -w + n * (2 * dot(w, n)); }
 
 /// Refract `wi` (pointing away from the surface) through the interface with normal `n` and
 /// relative index `eta` = n(inside) / n(outside), where `n` points outside. Handles `wi` on

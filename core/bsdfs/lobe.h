@@ -2,9 +2,8 @@
 // wo and wi point away from the surface. Every lobe provides
 //   Rgb eval(Vec3f wo, Vec3f wi, TransportMode) const;
 //   float pdf(Vec3f wo, Vec3f wi) const;
-//   std::optional<BsdfSample> sample(Vec3f wo, float uc, Vec2f u, TransportMode) const;  // wi local
-//   bool isDelta() const;
-//   Rgb albedo() const;
+//   std::optional<BsdfSample> sample(Vec3f wo, float uc, Vec2f u, TransportMode) const;  // wi
+//   local bool isDelta() const; Rgb albedo() const;
 #pragma once
 
 #include "math/vec.h"
@@ -14,12 +13,12 @@ namespace partita {
 enum class TransportMode { Radiance, Importance };
 
 struct BsdfSample {
-    Rgb f{0.0f};     // BSDF value (Dirac: weight / |cos|)
-    Vec3f wi;        // sampled direction (local frame inside lobes, world frame from Bsdf)
-    float pdf = 0;   // solid-angle density (Dirac: discrete branch probability)
+    Rgb f{0.0f};    // BSDF value (Dirac: weight / |cos|)
+    Vec3f wi;       // sampled direction (local frame inside lobes, world frame from Bsdf)
+    float pdf = 0;  // solid-angle density (Dirac: discrete branch probability)
     bool isDelta = false;
     bool isTransmission = false;
-    float eta = 1;   // relative index of refraction crossed when transmitted, else 1
+    float eta = 1;  // relative index of refraction crossed when transmitted, else 1
 };
 
 }  // namespace partita

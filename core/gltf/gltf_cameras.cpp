@@ -8,9 +8,7 @@ namespace partita::gltf {
 
 namespace {
 
-Vec3f column(const Mat4& m, int c) {
-    return {m.m[c][0], m.m[c][1], m.m[c][2]};
-}
+Vec3f column(const Mat4& m, int c) { return {m.m[c][0], m.m[c][1], m.m[c][2]}; }
 
 void setColumn(Mat4& m, int c, Vec3f v) {
     m.m[c][0] = v.x;

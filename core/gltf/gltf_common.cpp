@@ -12,9 +12,7 @@ void LoadContext::warn(const std::string& message) {
     scene.warnings.push_back(message);
 }
 
-void fail(const std::string& message) {
-    throw SceneLoadError(message);
-}
+void fail(const std::string& message) { throw SceneLoadError(message); }
 
 float toFloat(double v) {
     if (std::isnan(v)) return NAN;

@@ -10,12 +10,8 @@ namespace partita::gltf {
 
 namespace {
 
-uint32_t be16(const uint8_t* p) {
-    return uint32_t(p[0]) << 8 | p[1];
-}
-uint32_t be32(const uint8_t* p) {
-    return be16(p) << 16 | be16(p + 2);
-}
+uint32_t be16(const uint8_t* p) { return uint32_t(p[0]) << 8 | p[1]; }
+uint32_t be32(const uint8_t* p) { return be16(p) << 16 | be16(p + 2); }
 
 ImageSize pngSize(const uint8_t* data, size_t size, const std::string& what) {
     if (size < 24 || std::memcmp(data + 12, "IHDR", 4) != 0)

@@ -45,14 +45,10 @@ std::string TinyGltfIo::errorFor(const std::string& uri) const {
 // tinygltf asks FileExists(base_dir + uri) first; we load with an empty base_dir, so the path it
 // asks about is the (percent-decoded) uri itself. Saying "yes" lets ReadWholeFile report the
 // resolver's reason instead of tinygltf's generic "File not found".
-bool TinyGltfIo::fileExists(const std::string&, void*) {
-    return true;
-}
+bool TinyGltfIo::fileExists(const std::string&, void*) { return true; }
 
 // The default expands `~` and environment variables (wordexp): never wanted for untrusted uris.
-std::string TinyGltfIo::expandFilePath(const std::string& path, void*) {
-    return path;
-}
+std::string TinyGltfIo::expandFilePath(const std::string& path, void*) { return path; }
 
 bool TinyGltfIo::readWholeFile(std::vector<unsigned char>* out, std::string* err,
                                const std::string& path, void* self) {

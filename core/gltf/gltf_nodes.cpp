@@ -26,9 +26,7 @@ Mat4 fromMatrix(const std::vector<double>& values) {
     return m;
 }
 
-Vec3f toVec3(const std::vector<double>& v) {
-    return {toFloat(v[0]), toFloat(v[1]), toFloat(v[2])};
-}
+Vec3f toVec3(const std::vector<double>& v) { return {toFloat(v[0]), toFloat(v[1]), toFloat(v[2])}; }
 
 Mat4 rotationOf(LoadContext& ctx, const std::vector<double>& q, int index) {
     double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);

@@ -24,9 +24,7 @@ LayeredImage pattern(float offset) {
     return img;
 }
 
-double num(const std::string& s) {
-    return std::stod(s);
-}
+double num(const std::string& s) { return std::stod(s); }
 
 TEST(CliCompare, IdentityIsZeroAndOffsetGivesExpectedError) {
     TempDir dir;

@@ -167,8 +167,6 @@ Daemon::~Daemon() {
     }
 }
 
-std::string Daemon::log() const {
-    return slurp(dir_ / "partitad.log");
-}
+std::string Daemon::log() const { return slurp(dir_ / "partitad.log"); }
 
 }  // namespace partita::test

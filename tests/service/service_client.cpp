@@ -127,9 +127,7 @@ std::shared_ptr<grpc::Channel> Daemon::channel() const {
     return grpc::CreateCustomChannel(address(), grpc::InsecureChannelCredentials(), args);
 }
 
-std::string Daemon::log() const {
-    return readFile(runDir_ / "log");
-}
+std::string Daemon::log() const { return readFile(runDir_ / "log"); }
 
 int Daemon::stop(int signal, std::chrono::seconds timeout) {
     if (pid_ <= 0) return -3;
@@ -279,9 +277,7 @@ void append(std::string& bin, const std::vector<T>& v) {
     bin.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
-void appendU32(std::string& s, uint32_t v) {
-    s.append(reinterpret_cast<const char*>(&v), 4);
-}
+void appendU32(std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
 
 }  // namespace
 

@@ -17,9 +17,7 @@ using namespace std::chrono_literals;
 const fs::path kScenes = PARTITA_SCENES_DIR;
 
 /// A job of a few seconds here, deterministic (a sample budget): signals land while it renders.
-pb::JobSpec restartJob() {
-    return sceneSpec("cornell", 128, 96, 128, 9);
-}
+pb::JobSpec restartJob() { return sceneSpec("cornell", 128, 96, 128, 9); }
 
 void interruptAndResume(int signal) {
     TempDir store;

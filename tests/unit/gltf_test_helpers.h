@@ -178,9 +178,7 @@ inline GltfBuilder quadScene(const json& nodeExtras = json::object()) {
     return b;
 }
 
-inline std::vector<uint8_t> textBytes(const std::string& s) {
-    return {s.begin(), s.end()};
-}
+inline std::vector<uint8_t> textBytes(const std::string& s) { return {s.begin(), s.end()}; }
 
 inline SceneData loadJson(const json& doc, std::map<std::string, std::vector<uint8_t>> files = {},
                           const GltfLoadLimits& limits = {}) {

@@ -14,8 +14,8 @@
 
 namespace partita::test {
 
-inline RenderResult renderWith(const RenderScene& scene, const std::string& algorithm, const RenderSettings& settings,
-                               int threads = 2) {
+inline RenderResult renderWith(const RenderScene& scene, const std::string& algorithm,
+                               const RenderSettings& settings, int threads = 2) {
     ThreadPool pool(threads);
     std::atomic<bool> cancel{false};
     RenderObserver observer;

@@ -62,24 +62,26 @@ inline TriangleMesh box(Vec3f lo, Vec3f hi, int material, bool inward) {
         for (uint32_t i : q.indices) out.indices.push_back(base + i);
     };
     Vec3f X(d.x, 0, 0), Y(0, d.y, 0), Z(0, 0, d.z);
-    addQuad(lo, Y, X);            // -z face, normal -z
-    addQuad(lo + Z, X, Y);        // +z face
-    addQuad(lo, Z, Y);            // -x face
-    addQuad(lo + X, Y, Z);        // +x face
-    addQuad(lo, X, Z);            // -y face
-    addQuad(lo + Y, Z, X);        // +y face
+    addQuad(lo, Y, X);      // -z face, normal -z
+    addQuad(lo + Z, X, Y);  // +z face
+    addQuad(lo, Z, Y);      // -x face
+    addQuad(lo + X, Y, Z);  // +x face
+    addQuad(lo, X, Z);      // -y face
+    addQuad(lo + Y, Z, X);  // +y face
     out.material = material;
     return out;
 }
 
 /// A UV sphere with smooth normals.
-inline TriangleMesh sphere(Vec3f center, float radius, int material, int rings = 24, int segments = 48) {
+inline TriangleMesh sphere(Vec3f center, float radius, int material, int rings = 24,
+                           int segments = 48) {
     TriangleMesh m;
     for (int r = 0; r <= rings; ++r) {
         float theta = kPi * float(r) / float(rings);
         for (int s = 0; s <= segments; ++s) {
             float phi = 2 * kPi * float(s) / float(segments);
-            Vec3f n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            Vec3f n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                    std::sin(theta) * std::sin(phi));
             m.positions.push_back(center + n * radius);
             m.normals.push_back(n);
         }
@@ -116,8 +118,8 @@ inline CameraDesc lookAtCamera(Vec3f eye, Vec3f target, float yfov) {
 /// D and S vertices and many path types.
 inline SceneData specularBoxScene() {
     SceneData s;
-    s.materials = {lambertMaterial(Rgb(0.7f)), lambertMaterial(Rgb(0.0f), Rgb(8.0f), false), mirrorMaterial(),
-                   glassMaterial()};
+    s.materials = {lambertMaterial(Rgb(0.7f)), lambertMaterial(Rgb(0.0f), Rgb(8.0f), false),
+                   mirrorMaterial(), glassMaterial()};
     s.meshes.push_back(box({-1, 0, -1}, {1, 2, 1}, 0, true));
     s.meshes.push_back(quad({-0.3f, 1.99f, -0.3f}, {0.6f, 0, 0}, {0, 0, 0.6f}, 1));  // faces down
     s.meshes.push_back(sphere({-0.45f, 0.35f, -0.2f}, 0.35f, 2, 12, 24));

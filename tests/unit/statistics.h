@@ -38,7 +38,8 @@ inline double regularizedBeta(double x, double a, double b) {
     if (x >= 1) return 1;
     if (x > (a + 1) / (a + b + 2)) return 1 - regularizedBeta(1 - x, b, a);
     double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) +
-                            b * std::log(1 - x)) / a;
+                            b * std::log(1 - x)) /
+                   a;
     const double tiny = 1e-300;
     double c = 1, d = 1 - (a + b) * x / (a + 1);
     if (std::abs(d) < tiny) d = tiny;

@@ -42,9 +42,7 @@ Vec3f direction(float thetaDeg, float phi) {
     float t = thetaDeg * kPi / 180;
     return Vec3f(std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t));
 }
-Vec3f below(Vec3f w) {
-    return Vec3f(w.x, w.y, -w.z);
-}
+Vec3f below(Vec3f w) { return Vec3f(w.x, w.y, -w.z); }
 
 const char* lobeName(const BsdfLobe& lobe) {
     static const char* names[] = {"Lambert", "Conductor",        "Dielectric",
@@ -129,9 +127,7 @@ std::vector<LobeCase> nonDiracCases() {
 // Family-wise significance of all chi-square tests in this file.
 constexpr double kFamilyAlpha = 1e-3;
 
-int chi2FamilySize() {
-    return int(nonDiracCases().size()) + 2;
-}  // + the fine-grid cases
+int chi2FamilySize() { return int(nonDiracCases().size()) + 2; }  // + the fine-grid cases
 
 void runChi2(const BsdfLobe& lobe, Vec3f wo, uint64_t stream, const Chi2Options& opts = {}) {
     Rng rng(20240611, stream);
@@ -318,18 +314,10 @@ TEST(Chi2Helper, PoolsLowCountCellsAndFlagsSupportViolations) {
 // =============================================================================================
 // Chi-square: sample() against pdf() for every non-Dirac lobe
 
-TEST(BsdfChi2, Lambert) {
-    runChi2ForLobe(lobeIndexOf<LambertLobe>());
-}
-TEST(BsdfChi2, Conductor) {
-    runChi2ForLobe(lobeIndexOf<ConductorLobe>());
-}
-TEST(BsdfChi2, DiffuseConductorMix) {
-    runChi2ForLobe(lobeIndexOf<DiffuseConductorMixLobe>());
-}
-TEST(BsdfChi2, Dielectric) {
-    runChi2ForLobe(lobeIndexOf<DielectricLobe>());
-}
+TEST(BsdfChi2, Lambert) { runChi2ForLobe(lobeIndexOf<LambertLobe>()); }
+TEST(BsdfChi2, Conductor) { runChi2ForLobe(lobeIndexOf<ConductorLobe>()); }
+TEST(BsdfChi2, DiffuseConductorMix) { runChi2ForLobe(lobeIndexOf<DiffuseConductorMixLobe>()); }
+TEST(BsdfChi2, Dielectric) { runChi2ForLobe(lobeIndexOf<DielectricLobe>()); }
 
 TEST(BsdfChi2, SmallRoughnessOnFineGrid) {
     // alpha = 0.0225 (roughness 0.15): the lobe spans a few coarse bins only, so use a grid

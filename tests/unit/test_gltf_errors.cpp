@@ -18,9 +18,7 @@ std::string bytesError(const std::vector<uint8_t>& bytes, bool isBinary,
     return errorOf([&] { loadGltfMemory(bytes, isBinary, MemoryResolver({}), limits); });
 }
 
-std::string textError(const std::string& text) {
-    return bytesError(textBytes(text), false);
-}
+std::string textError(const std::string& text) { return bytesError(textBytes(text), false); }
 
 // ---- containers and JSON ----
 

@@ -20,9 +20,7 @@ void expectNear(Vec3f a, Vec3f b, float eps = 1e-5f) {
     EXPECT_NEAR(a.z, b.z, eps);
 }
 
-Vec3f column(const Mat4& m, int c) {
-    return {m.m[c][0], m.m[c][1], m.m[c][2]};
-}
+Vec3f column(const Mat4& m, int c) { return {m.m[c][0], m.m[c][1], m.m[c][2]}; }
 
 bool hasWarning(const SceneData& s, const std::string& text) {
     for (const auto& w : s.warnings)
@@ -157,9 +155,7 @@ GltfBuilder withLights(const json& lights, const std::vector<json>& nodes) {
     return b;
 }
 
-json lightRef(int index) {
-    return {{"KHR_lights_punctual", {{"light", index}}}};
-}
+json lightRef(int index) { return {{"KHR_lights_punctual", {{"light", index}}}}; }
 
 TEST(GltfLights, PointSpotAndDirectionalInWorldSpace) {
     float h = std::sqrt(0.5f);

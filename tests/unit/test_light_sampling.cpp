@@ -17,7 +17,8 @@ constexpr int kChi2Tests = 5;
 
 /// Pearson chi-square p-value of observed counts against expected probabilities (cells with
 /// expected count below 5 pooled).
-double discreteChi2PValue(const std::vector<double>& observed, const std::vector<double>& probability, double n) {
+double discreteChi2PValue(const std::vector<double>& observed,
+                          const std::vector<double>& probability, double n) {
     double statistic = 0, pooledObserved = 0, pooledExpected = 0;
     int cells = 0;
     for (size_t i = 0; i < observed.size(); ++i) {
@@ -31,7 +32,8 @@ double discreteChi2PValue(const std::vector<double>& observed, const std::vector
         ++cells;
     }
     if (pooledExpected > 0) {
-        statistic += (pooledObserved - pooledExpected) * (pooledObserved - pooledExpected) / pooledExpected;
+        statistic +=
+            (pooledObserved - pooledExpected) * (pooledObserved - pooledExpected) / pooledExpected;
         ++cells;
     }
     return test::chi2SurvivalProbability(statistic, cells - 1);
@@ -43,7 +45,8 @@ SceneData triangleLightScene(bool twoSided) {
     s.materials = {test::lambertMaterial(Rgb(0.0f), Rgb(3.0f), twoSided)};
     TriangleMesh tri;
     tri.positions = {{-0.5f, 1, -0.3f}, {0.8f, 1.3f, 0.1f}, {-0.1f, 0.9f, 0.9f}};
-    Vec3f n = normalize(cross(tri.positions[1] - tri.positions[0], tri.positions[2] - tri.positions[0]));
+    Vec3f n =
+        normalize(cross(tri.positions[1] - tri.positions[0], tri.positions[2] - tri.positions[0]));
     if (n.y > 0) std::swap(tri.positions[1], tri.positions[2]);  // face down, towards the reference
     n = normalize(cross(tri.positions[1] - tri.positions[0], tri.positions[2] - tri.positions[0]));
     tri.normals = {n, n, n};
@@ -91,7 +94,8 @@ TEST(LightSampling, OneSidedLightDoesNotSampleItsBack) {
     RenderScene scene(triangleLightScene(false));
     Rng rng(1, 1);
     for (int i = 0; i < 1000; ++i)
-        EXPECT_FALSE(scene.sampleLight(0, Vec3f(0.2f, 2.0f, 0.3f), {rng.nextFloat(), rng.nextFloat()}));
+        EXPECT_FALSE(
+            scene.sampleLight(0, Vec3f(0.2f, 2.0f, 0.3f), {rng.nextFloat(), rng.nextFloat()}));
     RenderScene twoSided(triangleLightScene(true));
     EXPECT_TRUE(twoSided.sampleLight(0, Vec3f(0.2f, 2.0f, 0.3f), {0.3f, 0.3f}));
 }
@@ -115,7 +119,8 @@ TEST(LightSampling, LightSelectionFollowsPower) {
     Rng rng(5, 5);
     const int n = 200000;
     for (int i = 0; i < n; ++i) observed[dist.sample(rng.nextFloat())] += 1;
-    EXPECT_GE(discreteChi2PValue(observed, expected, n), test::sidakLevel(kFamilyAlpha, kChi2Tests));
+    EXPECT_GE(discreteChi2PValue(observed, expected, n),
+              test::sidakLevel(kFamilyAlpha, kChi2Tests));
 }
 
 TEST(LightSampling, UniformConeMatchesItsPdf) {
@@ -123,7 +128,9 @@ TEST(LightSampling, UniformConeMatchesItsPdf) {
     test::DirectionSampler sampler = [&](Rng& rng) -> std::optional<Vec3f> {
         return sampleUniformCone({rng.nextFloat(), rng.nextFloat()}, cosMax);
     };
-    test::DirectionPdf pdf = [&](Vec3f w) -> double { return w.z >= cosMax ? uniformConePdf(cosMax) : 0.0; };
+    test::DirectionPdf pdf = [&](Vec3f w) -> double {
+        return w.z >= cosMax ? uniformConePdf(cosMax) : 0.0;
+    };
     Rng rng(9, 9);
     auto result = test::chi2Test(sampler, pdf, rng);
     EXPECT_GE(result.pValue, test::sidakLevel(kFamilyAlpha, kChi2Tests)) << result.describe();
@@ -145,7 +152,9 @@ TEST(LightSampling, TentFilterOffsetsFollowTheTent) {
     for (int b = 0; b < bins; ++b) {
         // Exact integral of the tent 1 - |x| over the bin [x0, x1].
         double x0 = -1 + 2.0 * b / bins, x1 = -1 + 2.0 * (b + 1) / bins;
-        auto cdf = [](double x) { return x < 0 ? 0.5 * (1 + x) * (1 + x) : 1 - 0.5 * (1 - x) * (1 - x); };
+        auto cdf = [](double x) {
+            return x < 0 ? 0.5 * (1 + x) * (1 + x) : 1 - 0.5 * (1 - x) * (1 - x);
+        };
         probability[size_t(b)] = cdf(x1) - cdf(x0);
     }
     Rng rng(11, 11);
@@ -155,7 +164,8 @@ TEST(LightSampling, TentFilterOffsetsFollowTheTent) {
         ASSERT_LE(x, 1.0f);
         observed[size_t(std::min(bins - 1, int((x + 1) / 2 * bins)))] += 1;
     }
-    EXPECT_GE(discreteChi2PValue(observed, probability, n), test::sidakLevel(kFamilyAlpha, kChi2Tests));
+    EXPECT_GE(discreteChi2PValue(observed, probability, n),
+              test::sidakLevel(kFamilyAlpha, kChi2Tests));
 }
 
 }  // namespace

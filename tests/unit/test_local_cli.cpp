@@ -26,7 +26,8 @@ RunResult runLocal(const std::string& args) {
     fs::path dir = fs::temp_directory_path() / ("partita-local-test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     fs::path errFile = dir / "stderr.txt";
-    std::string cmd = std::string(PARTITA_LOCAL_BIN) + " " + args + " 2>" + errFile.string() + " >/dev/null";
+    std::string cmd =
+        std::string(PARTITA_LOCAL_BIN) + " " + args + " 2>" + errFile.string() + " >/dev/null";
     int status = std::system(cmd.c_str());
     RunResult r;
     r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -49,11 +50,13 @@ fs::path tempDir() {
 
 TEST(LocalCli, RendersTheShippedSceneToExrAndPng) {
     fs::path out = tempDir() / "cornell.exr";
-    RunResult r = runLocal(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf --quiet" +
-                           " --width 32 --height 24 --spp 2 --out " + out.string());
+    RunResult r =
+        runLocal(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf --quiet" +
+                 " --width 32 --height 24 --spp 2 --out " + out.string());
     // `render` is the subcommand: the line above lacks it on purpose to check the error path.
     EXPECT_NE(r.exitCode, 0);
-    r = runLocal("render " + std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf --quiet" +
+    r = runLocal("render " + std::string(PARTITA_SCENES_DIR) +
+                 "/cornell-glass/cornell-glass.gltf --quiet" +
                  " --width 32 --height 24 --spp 2 --out " + out.string());
     ASSERT_EQ(r.exitCode, 0) << r.stderrText;
     LayeredImage img = readExr(out);
@@ -74,18 +77,23 @@ void expectOneLineError(const std::string& args, const std::string& needle) {
 TEST(LocalCli, BadInputIsOneLineAndNonZero) {
     std::string scene = std::string(PARTITA_SCENES_DIR) + "/cornell/cornell.gltf";
     fs::path out = tempDir() / "x.exr";
-    expectOneLineError("render /nonexistent/scene.gltf --quiet --out " + out.string(), "scene.gltf");
-    expectOneLineError("render " + scene + " --quiet --width -5 --out " + out.string(), "resolution");
-    expectOneLineError("render " + scene + " --quiet --width 100000 --height 100000 --out " + out.string(),
+    expectOneLineError("render /nonexistent/scene.gltf --quiet --out " + out.string(),
+                       "scene.gltf");
+    expectOneLineError("render " + scene + " --quiet --width -5 --out " + out.string(),
                        "resolution");
-    expectOneLineError("render " + scene + " --quiet --algorithm warp-drive --out " + out.string(), "warp-drive");
+    expectOneLineError(
+        "render " + scene + " --quiet --width 100000 --height 100000 --out " + out.string(),
+        "resolution");
+    expectOneLineError("render " + scene + " --quiet --algorithm warp-drive --out " + out.string(),
+                       "warp-drive");
     expectOneLineError("render " + scene + " --quiet --spp 0 --out " + out.string(), "budget");
     expectOneLineError("render " + scene + " --quiet --camera nope --out " + out.string(), "nope");
     fs::path bad = tempDir() / "broken.gltf";
     std::ofstream(bad) << "{ \"asset\": {\"version\": \"2.0\"}, \"buffers\": [ {\"byteLength\": 99";
     expectOneLineError("render " + bad.string() + " --quiet --out " + out.string(), "error");
-    expectOneLineError("render " + scene + " --quiet --out /nonexistent-dir/x.exr --width 8 --height 8 --spp 1",
-                       "nonexistent-dir");
+    expectOneLineError(
+        "render " + scene + " --quiet --out /nonexistent-dir/x.exr --width 8 --height 8 --spp 1",
+        "nonexistent-dir");
 }
 
 }  // namespace

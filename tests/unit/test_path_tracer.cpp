@@ -58,7 +58,8 @@ TEST(PathTracer, WhiteFurnaceMatchesClosedForm) {
     for (int k = 0; k < 4; ++k) {
         auto m = meanAndError(perType[size_t(k)]);
         double want = le * std::pow(rho, k);
-        EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, 5)) << "type with " << k << " D vertices";
+        EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, 5))
+            << "type with " << k << " D vertices";
     }
 }
 
@@ -67,7 +68,8 @@ TEST(PathTracer, MaxDepthTruncatesTheNeumannSeries) {
     RenderScene scene(furnaceScene(rho, le));
     std::vector<double> means;
     for (uint64_t seed = 11; seed <= 18; ++seed)
-        means.push_back(luminance(renderWith(scene, "pt", smallSettings(4, seed, 2)).image.combined.mean()));
+        means.push_back(
+            luminance(renderWith(scene, "pt", smallSettings(4, seed, 2)).image.combined.mean()));
     auto m = meanAndError(means);
     double expected = le * (1 + rho + rho * rho);  // at most two scattering vertices
     EXPECT_NEAR(m.mean, expected, test::statisticalTolerance(m, expected));
@@ -101,10 +103,12 @@ TEST(PathTracer, PointLightOverLambertPlaneMatchesQuadrature) {
     };
     Camera camera(cam, res, res);
     // 8-point Gauss-Legendre on each half [-1,0], [0,1] of the tent.
-    const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-                          0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
-    const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
-                          0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+    const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                          -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                          0.7966664774136267,  0.9602898564975363};
+    const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                          0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                          0.2223810344533745, 0.1012285362903763};
     auto expectedPixel = [&](int px, int py) {
         double sum = 0;
         for (int hx = 0; hx < 2; ++hx)
@@ -125,14 +129,16 @@ TEST(PathTracer, PointLightOverLambertPlaneMatchesQuadrature) {
         st.width = st.height = res;
         RenderResult r = renderWith(scene, "pt", st);
         for (int y = 0; y < res; ++y)
-            for (int x = 0; x < res; ++x) perPixel[size_t(y * res + x)].push_back(r.image.combined.at(x, y).y);
+            for (int x = 0; x < res; ++x)
+                perPixel[size_t(y * res + x)].push_back(r.image.combined.at(x, y).y);
     }
     for (int y = 0; y < res; ++y)
         for (int x = 0; x < res; ++x) {
             auto m = meanAndError(perPixel[size_t(y * res + x)]);
             double want = expectedPixel(x, y);
             EXPECT_GT(m.standardError, 0);
-            EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, res * res)) << "pixel " << x << "," << y;
+            EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, res * res))
+                << "pixel " << x << "," << y;
         }
 }
 
@@ -145,7 +151,8 @@ TEST(PathTracer, TypeLayersSumToCombined) {
     RenderResult r = renderWith(scene, "pt", st);
     ASSERT_GT(r.image.layers.size(), 4u);
     bool sawSpecular = false;
-    for (const auto& layer : r.image.layers) sawSpecular |= layer.name.find('S') != std::string::npos;
+    for (const auto& layer : r.image.layers)
+        sawSpecular |= layer.name.find('S') != std::string::npos;
     EXPECT_TRUE(sawSpecular);
     for (int y = 0; y < st.height; ++y)
         for (int x = 0; x < st.width; ++x) {
@@ -177,11 +184,11 @@ TEST(PathTracer, ImageDoesNotDependOnThreadCountOrPassSplit) {
 }
 
 class CancelOnFirstProgress : public RenderObserver {
-public:
+  public:
     explicit CancelOnFirstProgress(std::atomic<bool>& flag) : flag_(flag) {}
     void onProgress(const RenderProgress&) override { flag_.store(true); }
 
-private:
+  private:
     std::atomic<bool>& flag_;
 };
 

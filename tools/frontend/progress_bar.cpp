@@ -59,8 +59,8 @@ void ProgressBar::update(const RenderProgress& p) {
     auto now = std::chrono::steady_clock::now();
     if (now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
-    std::fprintf(stderr, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(), fraction >= 0 ? 100 * fraction : 0.0,
-                 rate.c_str(), eta.c_str());
+    std::fprintf(stderr, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
+                 fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
 }
 
 void ProgressBar::finish() {

@@ -12,7 +12,7 @@ namespace partita {
 struct RenderProgress;
 
 class ProgressBar {
-public:
+  public:
     explicit ProgressBar(bool interactive);
     static bool stderrIsTerminal();
 
@@ -20,7 +20,7 @@ public:
     /// Ends the bar's line (call once when the work is over).
     void finish();
 
-private:
+  private:
     bool interactive_;
     bool drawn_ = false;
     std::mutex mutex_;

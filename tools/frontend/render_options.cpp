@@ -4,7 +4,8 @@ namespace partita {
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
     RenderSettings& s = o.settings;
-    app.add_option("--algorithm", o.algorithm, "pt | bdpt | mlt | partitioned | guided (those built in)");
+    app.add_option("--algorithm", o.algorithm,
+                   "pt | bdpt | mlt | partitioned | guided (those built in)");
     auto* spp = app.add_option("--spp", o.spp, "budget: samples per pixel");
     auto* mpp = app.add_option("--mpp", o.mpp, "budget: mutations per pixel");
     auto* sec = app.add_option("--seconds", o.seconds, "budget: wall-clock seconds");
@@ -14,9 +15,12 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
     app.add_option("--height", s.height, "image height in pixels")->capture_default_str();
     app.add_option("--camera", s.cameraName, "camera name (default: the scene's first camera)");
     app.add_option("--seed", s.seed, "random seed")->capture_default_str();
-    app.add_option("--max-depth", s.maxDepth, "maximum scattering vertices per path")->capture_default_str();
-    app.add_option("--k", s.partitions, "K: number of partitions (paper Sec. 4)")->capture_default_str();
-    app.add_option("--y", s.guideCandidates, "|Y'|: guide candidates per step (paper Sec. 5)")->capture_default_str();
+    app.add_option("--max-depth", s.maxDepth, "maximum scattering vertices per path")
+        ->capture_default_str();
+    app.add_option("--k", s.partitions, "K: number of partitions (paper Sec. 4)")
+        ->capture_default_str();
+    app.add_option("--y", s.guideCandidates, "|Y'|: guide candidates per step (paper Sec. 5)")
+        ->capture_default_str();
     app.add_option("--radius", s.guideRadius, "R: guide radius in pixels")->capture_default_str();
     app.add_option("--epsilon", s.guideEpsilon, "epsilon of Eq. 17")->capture_default_str();
     app.add_option("--layers", s.maxTypeLayers, "path-type layers kept in the EXR before 'other'")

@@ -10,7 +10,8 @@ std::string finalizeRenderOptions(RenderOptions& o) {
     const auto* entry = AlgorithmRegistry::instance().find(o.algorithm);
     if (!entry) {
         std::string known;
-        for (const auto& n : AlgorithmRegistry::instance().names()) known += (known.empty() ? "" : ", ") + n;
+        for (const auto& n : AlgorithmRegistry::instance().names())
+            known += (known.empty() ? "" : ", ") + n;
         return "unknown algorithm '" + o.algorithm + "' (available: " + known + ")";
     }
     RenderSettings& s = o.settings;

@@ -2,8 +2,8 @@
 //   partita-local render SCENE --spp N --out x.exr [--png x.png] [render options]
 //   partita-local info SCENE
 // Bad input prints one line on stderr and exits non-zero.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <atomic>
 #include <csignal>
@@ -27,13 +27,13 @@ std::atomic<bool> gCancel{false};
 void onSignal(int) { gCancel.store(true); }
 
 class BarObserver : public RenderObserver {
-public:
+  public:
     BarObserver(ProgressBar& bar, bool quiet) : bar_(bar), quiet_(quiet) {}
     void onProgress(const RenderProgress& p) override {
         if (!quiet_) bar_.update(p);
     }
 
-private:
+  private:
     ProgressBar& bar_;
     bool quiet_;
 };
@@ -41,12 +41,14 @@ private:
 /// Fail before rendering, not after, when an output cannot be written.
 void checkOutputFolder(const std::string& file) {
     fs::path parent = fs::absolute(file).parent_path();
-    if (!fs::is_directory(parent)) throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
+    if (!fs::is_directory(parent))
+        throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
 }
 
 int renderCommand(const std::string& scenePath, RenderOptions& options, const std::string& outPath,
                   std::string pngPath, bool quiet) {
-    if (std::string err = finalizeRenderOptions(options); !err.empty()) throw std::invalid_argument(err);
+    if (std::string err = finalizeRenderOptions(options); !err.empty())
+        throw std::invalid_argument(err);
     if (pngPath.empty()) pngPath = fs::path(outPath).replace_extension(".png").string();
     checkOutputFolder(outPath);
     checkOutputFolder(pngPath);
@@ -65,11 +67,12 @@ int renderCommand(const std::string& scenePath, RenderOptions& options, const st
         throw std::runtime_error("interrupted; nothing written");
     }
     bar.finish();
-    writeExr(outPath, result.image, describeRender(options.algorithm, options.settings, result.stats));
+    writeExr(outPath, result.image,
+             describeRender(options.algorithm, options.settings, result.stats));
     writePng(pngPath, result.image.combined, autoExposure(result.image.combined));
     if (!quiet) {
-        std::fprintf(stderr, "wrote %s (%zu type layers) and %s in %s, %s rays/s\n", outPath.c_str(),
-                     result.image.layers.size(), pngPath.c_str(),
+        std::fprintf(stderr, "wrote %s (%zu type layers) and %s in %s, %s rays/s\n",
+                     outPath.c_str(), result.image.layers.size(), pngPath.c_str(),
                      humanDuration(result.stats.values["seconds"]).c_str(),
                      humanCount(result.stats.values["rays_per_second"]).c_str());
     }
@@ -80,8 +83,9 @@ int infoCommand(const std::string& scenePath) {
     SceneData data = loadGltfFile(scenePath);
     size_t triangles = 0;
     for (const auto& m : data.meshes) triangles += m.triangleCount();
-    std::printf("meshes %zu, triangles %zu, materials %zu, textures %zu, punctual lights %zu\n", data.meshes.size(),
-                triangles, data.materials.size(), data.textures.size(), data.lights.size());
+    std::printf("meshes %zu, triangles %zu, materials %zu, textures %zu, punctual lights %zu\n",
+                data.meshes.size(), triangles, data.materials.size(), data.textures.size(),
+                data.lights.size());
     for (const auto& c : data.cameras)
         std::printf("camera '%s' (%s)\n", c.name.c_str(),
                     c.type == CameraDesc::Type::Perspective ? "perspective" : "orthographic");
@@ -97,9 +101,11 @@ int main(int argc, char** argv) {
     std::string scenePath, outPath = "out.exr", pngPath;
     bool quiet = false;
     RenderOptions options;
-    auto* render = app.add_subcommand("render", "render a scene to a multi-layer EXR and a PNG preview");
+    auto* render =
+        app.add_subcommand("render", "render a scene to a multi-layer EXR and a PNG preview");
     render->add_option("scene", scenePath, "a .gltf or .glb file")->required();
-    render->add_option("--out", outPath, "output EXR (combined + one layer per path type)")->capture_default_str();
+    render->add_option("--out", outPath, "output EXR (combined + one layer per path type)")
+        ->capture_default_str();
     render->add_option("--png", pngPath, "PNG preview (default: the EXR name with .png)");
     render->add_flag("--quiet", quiet, "no progress bar");
     addRenderOptions(*render, options);

@@ -25,7 +25,7 @@ inline Rng pixelSampleRng(uint64_t seed, int x, int y, int width, uint64_t sampl
 }
 
 class PathTracerAlgorithm : public Algorithm {
-public:
+  public:
     RenderResult render(const RenderContext& ctx) override;
 };
 
