@@ -50,35 +50,49 @@ class PathSampler {
         : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
 
     void run(Ray ray) {
+        start(ray);
+        while (step()) {
+        }
+    }
+
+    /// Starts the path at `primary`; step() then extends it one vertex at a time.
+    void start(const Ray& primary) {
         // Ray directions are unit vectors: the primary's by contract, and sampled BSDF
         // directions are unit (up to rounding), so wo needs no normalisation at each vertex.
-        SurfaceHit hit;
-        for (int depth = 0;; ++depth) {
-            ++counters_.rays;
-            if (!scene_.intersect(ray, hit)) return;
-            if (state_.inMedium)
-                state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray.d));
-            addEmission(hit, -ray.d);
-            // This hit becomes scattering vertex number depth + 1.
-            if (depth + 1 > settings_.maxDepth) return;
-            Bsdf bsdf = scene_.bsdfAt(hit);
-            BoundBsdf bound(bsdf, -ray.d);
-            bool delta = bound.isDelta();
-            PathType typeHere = state_.type.withVertex(delta);
-            RayOrigins origins(hit.p, hit.ng);
-            // The point on a light and the continuation are both sampled before either is used
-            // (drawing the random numbers in the same order, light first): the two are
-            // independent, so the processor overlaps their chains of divisions and square roots
-            // instead of waiting for each in turn.
-            LightSample light;
-            int lightIndex = delta ? -1 : sampleNextEvent(hit, light);
-            float uc = rng_.nextFloat();
-            Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
-            BsdfSample bs;
-            bool continues = bound.sample(uc, u, bs);
-            if (lightIndex >= 0) addNextEvent(hit, bound, origins, light, lightIndex, typeHere);
-            if (!continues || !continuePath(hit, bs, origins, typeHere, ray, depth)) return;
-        }
+        ray_ = primary;
+        depth_ = 0;
+    }
+
+    /// Traces the current ray and handles the vertex it finds: emission, next-event estimation
+    /// and the continuation. False when the path has ended.
+    bool step() {
+        SurfaceHit& hit = hit_;
+        ++counters_.rays;
+        if (!scene_.intersect(ray_, hit)) return false;
+        if (state_.inMedium)
+            state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray_.d));
+        addEmission(hit, -ray_.d);
+        // This hit becomes scattering vertex number depth + 1.
+        if (depth_ + 1 > settings_.maxDepth) return false;
+        Bsdf bsdf = scene_.bsdfAt(hit);
+        BoundBsdf bound(bsdf, -ray_.d);
+        bool delta = bound.isDelta();
+        PathType typeHere = state_.type.withVertex(delta);
+        RayOrigins origins(hit.p, hit.ng);
+        // The point on a light and the continuation are both sampled before either is used
+        // (drawing the random numbers in the same order, light first): the two are
+        // independent, so the processor overlaps their chains of divisions and square roots
+        // instead of waiting for each in turn.
+        LightSample light;
+        int lightIndex = delta ? -1 : sampleNextEvent(hit, light);
+        float uc = rng_.nextFloat();
+        Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
+        BsdfSample bs;
+        bool continues = bound.sample(uc, u, bs);
+        if (lightIndex >= 0) addNextEvent(hit, bound, origins, light, lightIndex, typeHere);
+        if (!continues || !continuePath(hit, bs, origins, typeHere, ray_, depth_)) return false;
+        ++depth_;
+        return true;
     }
 
   private:
@@ -177,6 +191,9 @@ class PathSampler {
     Sink& sink_;
     PathCounters& counters_;
     PathState state_;
+    Ray ray_;
+    SurfaceHit hit_;
+    int depth_ = 0;
 };
 
 }  // namespace
@@ -190,6 +207,24 @@ void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
 void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
                 const PathSamplerSettings& settings, FilmSink& sink, PathCounters& counters) {
     PathSampler<FilmSink>(scene, rng, settings, sink, counters).run(primary);
+}
+
+void samplePathPair(const RenderScene& scene, const PathStart& a, const PathStart& b,
+                    const PathSamplerSettings& settings, PathCounters& counters) {
+    PathSampler<FilmSink> first(scene, a.rng, settings, a.sink, counters);
+    PathSampler<FilmSink> second(scene, b.rng, settings, b.sink, counters);
+    first.start(a.primary);
+    second.start(b.primary);
+    // Alternate one vertex of each: consecutive ray queries then belong to independent paths,
+    // so the processor overlaps one path's traversal with the other's shading (as it overlaps
+    // the independent queries of a bare Embree loop) instead of waiting on each hit in turn.
+    bool firstAlive = true, secondAlive = true;
+    while (firstAlive && secondAlive) {
+        firstAlive = first.step();
+        secondAlive = second.step();
+    }
+    while (firstAlive) firstAlive = first.step();
+    while (secondAlive) secondAlive = second.step();
 }
 
 }  // namespace partita

@@ -54,4 +54,16 @@ class FilmSink;
 void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
                 const PathSamplerSettings& settings, FilmSink& sink, PathCounters& counters);
 
+/// One camera path's start: its primary ray, random numbers and film pixel.
+struct PathStart {
+    Ray primary;
+    Rng& rng;
+    FilmSink& sink;
+};
+/// Two independent paths, traced in lockstep (a vertex of one, then of the other). Each path's
+/// contributions, and their order, are exactly those of samplePath; only the interleaving of the
+/// two differs, so the paths should go to different pixels for a pixel's sums to be unchanged.
+void samplePathPair(const RenderScene& scene, const PathStart& a, const PathStart& b,
+                    const PathSamplerSettings& settings, PathCounters& counters);
+
 }  // namespace partita

@@ -107,8 +107,11 @@ class PathTracerRun {
             int x1 = std::min(x0 + Film::kTileSize, film_.width());
             int y1 = std::min(y0 + Film::kTileSize, film_.height());
             PathCounters counters;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) renderPixel(x, y, range, counters);
+            for (int y = y0; y < y1; ++y) {
+                int x = x0;
+                for (; x + 1 < x1; x += 2) renderPixelPair(x, y, range, counters);
+                if (x < x1) renderPixel(x, y, range, counters);
+            }
             rays_.fetch_add(counters.rays, std::memory_order_relaxed);
             progress.advance(double(x1 - x0) * (y1 - y0) *
                              double(range.endSample - range.firstSample));
@@ -122,6 +125,22 @@ class PathTracerRun {
             Vec2f u{rng.nextFloat(), rng.nextFloat()};
             Ray ray = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
             samplePath(ctx_.scene, ray, rng, samplerSettings_, sink, counters);
+        }
+    }
+
+    /// Pixels (x, y) and (x + 1, y), sample by sample: each pixel gets exactly what
+    /// renderPixel gives it, in the same order (so the image does not change), while the two
+    /// paths of each sample index are traced in lockstep (samplePathPair).
+    void renderPixelPair(int x, int y, PassRange range, PathCounters& counters) {
+        FilmSink sinkA(film_, x, y), sinkB(film_, x + 1, y);
+        for (uint64_t s = range.firstSample; s < range.endSample; ++s) {
+            Rng rngA = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), s);
+            Rng rngB = pixelSampleRng(ctx_.settings.seed, x + 1, y, film_.width(), s);
+            Vec2f uA{rngA.nextFloat(), rngA.nextFloat()};
+            Vec2f uB{rngB.nextFloat(), rngB.nextFloat()};
+            PathStart a{ctx_.camera.generateRay(filteredRasterPosition(x, y, uA)), rngA, sinkA};
+            PathStart b{ctx_.camera.generateRay(filteredRasterPosition(x + 1, y, uB)), rngB, sinkB};
+            samplePathPair(ctx_.scene, a, b, samplerSettings_, counters);
         }
     }
 
