@@ -93,11 +93,8 @@ TEST(ServiceCancel, WhileRendering) {
     auto stub = daemon.stub();
     Submitted job = submit(*stub, longJob());
     ASSERT_TRUE(job.status.ok());
-    pb::WatchJobRequest request;
-    request.set_job_id(job.id);
-    request.set_previews(true);
     auto ctx = context();
-    auto reader = stub->WatchJob(ctx.get(), request);
+    auto reader = stub->WatchJob(ctx.get(), watchRequest(job.id, true));
     pb::JobEvent event;
     bool sawProgress = false, sawFrame = false;
     while (!(sawProgress && sawFrame) && reader->Read(&event)) {

@@ -200,14 +200,18 @@ std::optional<pb::Job> WatchLog::last() const {
     return std::nullopt;
 }
 
-WatchLog watch(pb::Partita::Stub& stub, const std::string& id, bool previews, bool raw,
-               std::chrono::milliseconds deadline) {
+pb::WatchJobRequest watchRequest(const std::string& id, bool previews, bool raw) {
     pb::WatchJobRequest request;
     request.set_job_id(id);
     request.set_previews(previews);
     request.set_raw_previews(raw);
+    return request;
+}
+
+WatchLog watch(pb::Partita::Stub& stub, const std::string& id, bool previews, bool raw,
+               std::chrono::milliseconds deadline) {
     auto ctx = context(deadline);
-    auto reader = stub.WatchJob(ctx.get(), request);
+    auto reader = stub.WatchJob(ctx.get(), watchRequest(id, previews, raw));
     WatchLog log;
     pb::JobEvent event;
     while (reader->Read(&event)) log.events.push_back(event);

@@ -96,6 +96,8 @@ struct WatchLog {
     std::vector<const pb::PreviewFrame*> frames() const;
     std::optional<pb::Job> last() const;  // the last state event
 };
+/// A WatchJob request for job `id`, with preview frames (PNG) and raw float pixels as asked.
+pb::WatchJobRequest watchRequest(const std::string& id, bool previews = false, bool raw = false);
 WatchLog watch(pb::Partita::Stub& stub, const std::string& id, bool previews = false,
                bool raw = false, std::chrono::milliseconds deadline = std::chrono::seconds(90));
 

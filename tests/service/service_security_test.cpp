@@ -152,10 +152,8 @@ TEST(ServiceSecurity, TokenIsRequiredWhenConfigured) {
     // Streams check the token too.
     EXPECT_EQ(watch(*stub, job.id).status.error_code(), Code::UNAUTHENTICATED);
     EXPECT_EQ(fetch(*stub, job.id, pb::RESULT_KIND_EXR).status.error_code(), Code::UNAUTHENTICATED);
-    pb::WatchJobRequest request;
-    request.set_job_id(job.id);
     auto wctx = context(60s, "s3cret-token");
-    auto reader = stub->WatchJob(wctx.get(), request);
+    auto reader = stub->WatchJob(wctx.get(), watchRequest(job.id));
     pb::JobEvent event;
     pb::JobState last = pb::JOB_STATE_UNSPECIFIED;
     while (reader->Read(&event))

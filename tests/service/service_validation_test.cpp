@@ -204,10 +204,8 @@ TEST(ServiceValidation, QueueAndWatcherLimitsAreResourceExhausted) {
     std::vector<std::unique_ptr<grpc::ClientContext>> contexts;
     std::vector<std::unique_ptr<grpc::ClientReader<pb::JobEvent>>> readers;
     for (int i = 0; i < 2; ++i) {
-        pb::WatchJobRequest request;
-        request.set_job_id(running.id);
         contexts.push_back(context());
-        readers.push_back(stub->WatchJob(contexts.back().get(), request));
+        readers.push_back(stub->WatchJob(contexts.back().get(), watchRequest(running.id)));
         pb::JobEvent first;
         ASSERT_TRUE(readers.back()->Read(&first));  // joined: it got the state
     }

@@ -29,12 +29,8 @@ TEST(ServiceWatch, DisconnectingWatcherChangesNothingForOthers) {
         std::async(std::launch::async, [&] { return watch(*otherStub, job.id, true, true); });
 
     // The leaving watcher reads a few events, then its client goes away mid-stream.
-    pb::WatchJobRequest request;
-    request.set_job_id(job.id);
-    request.set_previews(true);
-    request.set_raw_previews(true);
     auto ctx = context();
-    auto reader = stub->WatchJob(ctx.get(), request);
+    auto reader = stub->WatchJob(ctx.get(), watchRequest(job.id, true, true));
     pb::JobEvent event;
     int frames = 0;
     while (frames < 2 && reader->Read(&event)) frames += event.has_preview();
@@ -92,12 +88,8 @@ TEST(ServiceWatch, SlowWatcherSkipsFramesButGetsTheFinalOneAndTheEnd) {
         std::async(std::launch::async, [&] { return watch(*fastStub, job.id, true, false); });
 
     // The slow client reads one event, then nothing until the job has finished.
-    pb::WatchJobRequest request;
-    request.set_job_id(job.id);
-    request.set_previews(true);
-    request.set_raw_previews(true);
     auto ctx = context(120s);
-    auto reader = stub->WatchJob(ctx.get(), request);
+    auto reader = stub->WatchJob(ctx.get(), watchRequest(job.id, true, true));
     pb::JobEvent event;
     ASSERT_TRUE(reader->Read(&event));
     auto started = std::chrono::steady_clock::now();
