@@ -189,6 +189,20 @@ def tent_reconstruct(raw, width, height, k):
     return sum(w[j] * cols[off + j: off + j + height * k: k, :, :] for j in range(2 * k))
 
 
+def write_exr(path, data, meta):
+    """Writes an H x W x 3 float32 array as a zip-compressed RGB EXR with string metadata."""
+    import OpenImageIO as oiio
+    o = oiio.ImageOutput.create(path)
+    spec = oiio.ImageSpec(data.shape[1], data.shape[0], 3, oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B")
+    spec.attribute("compression", "zip")
+    for key, value in meta.items():
+        spec.attribute(key, value)
+    o.open(path, spec)
+    o.write_image(data)
+    o.close()
+
+
 def main():
     a = parse_args()
     scene_path = os.path.abspath(a.scene)
@@ -343,26 +357,9 @@ def main():
         "cycles:max_bounces": str(bounces), "cycles:partita_max_depth": str(a.max_depth),
         "cycles:render_seconds": "%.2f" % render_seconds,
     }
-    for path, data in ((out, img),):
-        o = oiio.ImageOutput.create(path)
-        s = oiio.ImageSpec(data.shape[1], data.shape[0], 3, oiio.FLOAT)
-        s.channelnames = ("R", "G", "B")
-        s.attribute("compression", "zip")
-        for key, v in meta.items():
-            s.attribute(key, v)
-        o.open(path, s)
-        o.write_image(data)
-        o.close()
-    # Tag the raw file too (rewrite with the metadata compare.py reads).
-    o = oiio.ImageOutput.create(raw_path)
-    s = oiio.ImageSpec(raw.shape[1], raw.shape[0], 3, oiio.FLOAT)
-    s.channelnames = ("R", "G", "B")
-    s.attribute("compression", "zip")
-    for key, v in meta.items():
-        s.attribute(key, v)
-    o.open(raw_path, s)
-    o.write_image(raw.astype(np.float32))
-    o.close()
+    write_exr(out, img, meta)
+    # The raw cells too, with the metadata compare.py reads.
+    write_exr(raw_path, raw.astype(np.float32), meta)
     print("wrote %s (%dx%d) and %s (%dx%d)" % (out, W, H, raw_path, raw.shape[1], raw.shape[0]))
 
 

@@ -5,6 +5,8 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <functional>
+#include <optional>
 
 #include <algorithm>
 #include <cstring>
@@ -219,35 +221,39 @@ WatchLog watch(pb::Partita::Stub& stub, const std::string& id, bool previews, bo
     return log;
 }
 
-pb::Job waitForEnd(pb::Partita::Stub& stub, const std::string& id,
-                   std::chrono::milliseconds timeout) {
+namespace {
+
+/// Polls GetJob every `poll` until `done(job)` holds or `timeout` passes.
+std::optional<pb::Job> pollJob(pb::Partita::Stub& stub, const std::string& id,
+                               const std::function<bool(const pb::Job&)>& done,
+                               std::chrono::milliseconds timeout, std::chrono::milliseconds poll) {
     auto end = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < end) {
         pb::GetJobRequest request;
         request.set_job_id(id);
         pb::Job job;
         auto ctx = context(10s);
-        if (stub.GetJob(ctx.get(), request, &job).ok() &&
-            (job.state() == pb::JOB_STATE_DONE || job.state() == pb::JOB_STATE_FAILED ||
-             job.state() == pb::JOB_STATE_CANCELLED))
-            return job;
-        std::this_thread::sleep_for(20ms);
+        if (stub.GetJob(ctx.get(), request, &job).ok() && done(job)) return job;
+        std::this_thread::sleep_for(poll);
     }
-    return {};
+    return std::nullopt;
+}
+
+}  // namespace
+
+pb::Job waitForEnd(pb::Partita::Stub& stub, const std::string& id,
+                   std::chrono::milliseconds timeout) {
+    auto ended = [](const pb::Job& job) {
+        return job.state() == pb::JOB_STATE_DONE || job.state() == pb::JOB_STATE_FAILED ||
+               job.state() == pb::JOB_STATE_CANCELLED;
+    };
+    return pollJob(stub, id, ended, timeout, 20ms).value_or(pb::Job{});
 }
 
 bool waitForState(pb::Partita::Stub& stub, const std::string& id, pb::JobState state,
                   std::chrono::milliseconds timeout) {
-    auto end = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < end) {
-        pb::GetJobRequest request;
-        request.set_job_id(id);
-        pb::Job job;
-        auto ctx = context(10s);
-        if (stub.GetJob(ctx.get(), request, &job).ok() && job.state() == state) return true;
-        std::this_thread::sleep_for(5ms);
-    }
-    return false;
+    auto reached = [state](const pb::Job& job) { return job.state() == state; };
+    return pollJob(stub, id, reached, timeout, 5ms).has_value();
 }
 
 Fetched fetch(pb::Partita::Stub& stub, const std::string& id, pb::ResultKind kind) {
