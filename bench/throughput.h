@@ -14,7 +14,7 @@ struct ThroughputOptions {
     int spp = 4;  // per path-tracer run
     int maxDepth = 16;
     int rays = 2'000'000;  // for the bare Embree measurement
-    int repeats = 3;       // best of, to damp noise from other processes
+    int repeats = 7;       // rounds (kernel, then path tracer): median ratio, best-of rates
     int maxThreads = 0;    // thread counts 1, 2, 4, ... up to this (0: the hardware's)
     std::string camera;
 };
