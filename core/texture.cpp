@@ -5,19 +5,35 @@
 namespace partita {
 
 namespace {
+/// i mod n in [0, n), with one integer division.
+int positiveModulo(int i, int n) {
+    int m = i % n;
+    return m < 0 ? m + n : m;
+}
+
 int wrapIndex(int i, int n, WrapMode mode) {
     switch (mode) {
         case WrapMode::ClampToEdge:
             return clamp(i, 0, n - 1);
         case WrapMode::MirroredRepeat: {
             int period = 2 * n;
-            int m = ((i % period) + period) % period;
+            int m = positiveModulo(i, period);
             return m < n ? m : period - 1 - m;
         }
         case WrapMode::Repeat:
         default:
-            return ((i % n) + n) % n;
+            return positiveModulo(i, n);
     }
+}
+
+/// The two texel indices a bilinear lookup blends along one axis, i and i + 1, wrapped. The
+/// second follows from the first without another division, except where mirroring turns.
+void wrapPair(int i, int n, WrapMode mode, int& first, int& second) {
+    first = wrapIndex(i, n, mode);
+    if (mode == WrapMode::Repeat)
+        second = first + 1 == n ? 0 : first + 1;
+    else
+        second = wrapIndex(i + 1, n, mode);
 }
 }  // namespace
 
@@ -31,22 +47,29 @@ Vec2f TextureRef::transformUv(Vec2f uv) const {
 
 Rgba Texture::lookup(Vec2f uv) const {
     if (width <= 0 || height <= 0) return {};
+    // Texel (x, y) of indices already wrapped into the image.
     auto texel = [&](int x, int y) {
-        x = wrapIndex(x, width, wrapS);
-        y = wrapIndex(y, height, wrapT);
         const float* p = &rgba[(size_t(y) * width + x) * 4];
         return Rgba{{p[0], p[1], p[2]}, p[3]};
     };
+    auto wrapped = [&](int x, int y) {
+        return texel(wrapIndex(x, width, wrapS), wrapIndex(y, height, wrapT));
+    };
     float fx = uv.x * width - 0.5f, fy = uv.y * height - 0.5f;
     if (!std::isfinite(fx) || !std::isfinite(fy)) return texel(0, 0);
-    // Keep the integer conversion in range for huge coordinates (repeat is periodic anyway).
-    fx = std::fmod(fx, float(width) * 1024.f);
-    fy = std::fmod(fy, float(height) * 1024.f);
+    // Keep the integer conversion in range for huge coordinates (repeat is periodic anyway); for
+    // the usual ones fmod would return its argument unchanged.
+    const float rangeX = float(width) * 1024.f, rangeY = float(height) * 1024.f;
+    if (std::abs(fx) >= rangeX) fx = std::fmod(fx, rangeX);
+    if (std::abs(fy) >= rangeY) fy = std::fmod(fy, rangeY);
     if (filter == TextureFilter::Nearest)
-        return texel(int(std::floor(fx + 0.5f)), int(std::floor(fy + 0.5f)));
+        return wrapped(int(std::floor(fx + 0.5f)), int(std::floor(fy + 0.5f)));
     int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
     float tx = fx - x0, ty = fy - y0;
-    Rgba a = texel(x0, y0), b = texel(x0 + 1, y0), c = texel(x0, y0 + 1), d = texel(x0 + 1, y0 + 1);
+    int xa, xb, ya, yb;
+    wrapPair(x0, width, wrapS, xa, xb);
+    wrapPair(y0, height, wrapT, ya, yb);
+    Rgba a = texel(xa, ya), b = texel(xb, ya), c = texel(xa, yb), d = texel(xb, yb);
     auto lerp = [](float t, float u, float v) { return u + t * (v - u); };
     Rgba out;
     for (int k = 0; k < 3; ++k)
