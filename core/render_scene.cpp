@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -167,7 +168,7 @@ void RenderScene::buildLights() {
     std::vector<float> power;
     power.reserve(lights_.size());
     for (const Light& l : lights_) power.push_back(lightPower(l));
-    lightSelection_ = Distribution1D(power);
+    lightSelection_ = AliasTable(power);
 }
 
 bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
@@ -188,12 +189,16 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    // The hit point and its normals.
-    const uint32_t meshIndex = rh.hit.geomID, tri = rh.hit.primID;
-    const float u = rh.hit.u, v = rh.hit.v, w = 1 - u - v;
+    fillHit(rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    return true;
+}
+
+void RenderScene::fillHit(uint32_t meshIndex, uint32_t tri, float u, float v, float t,
+                          SurfaceHit& hit) const {
+    const float w = 1 - u - v;
     const TriangleMesh& mesh = data_.meshes[meshIndex];
     const uint32_t* idx = &mesh.indices[3 * size_t(tri)];
-    hit.t = rh.ray.tfar;
+    hit.t = t;
     hit.mesh = meshIndex;
     hit.triangle = tri;
     hit.barycentric = {u, v};
@@ -205,7 +210,39 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
                        : shadingNormal(mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * u +
                                            mesh.normals[idx[2]] * v,
                                        info.ng);
-    return true;
+}
+
+void RenderScene::intersect8(const Ray* rays, int count, SurfaceHit* hits, bool* found) const {
+    // Neighbouring camera rays share most of their traversal, so Embree's packet kernel visits
+    // each BVH node once for all lanes that reach it.
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[8];
+    alignas(32) RTCRayHit8 rh;
+    for (int i = 0; i < 8; ++i) {
+        const Ray& r = rays[std::min(i, count - 1)];
+        valid[i] = i < count ? -1 : 0;
+        rh.ray.org_x[i] = r.o.x;
+        rh.ray.org_y[i] = r.o.y;
+        rh.ray.org_z[i] = r.o.z;
+        rh.ray.dir_x[i] = r.d.x;
+        rh.ray.dir_y[i] = r.d.y;
+        rh.ray.dir_z[i] = r.d.z;
+        rh.ray.tnear[i] = 0;
+        rh.ray.tfar[i] = r.tMax;
+        rh.ray.mask[i] = 0xFFFFFFFFu;
+        rh.ray.flags[i] = 0;
+        rh.ray.time[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, embree_->scene, &context, &rh);
+    for (int i = 0; i < count; ++i) {
+        found[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (found[i])
+            fillHit(rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], rh.ray.tfar[i],
+                    hits[i]);
+    }
 }
 
 std::optional<SurfaceHit> RenderScene::intersect(const Ray& ray) const {

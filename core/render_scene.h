@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include "alias_table.h"
 #include "bsdf.h"
 #include "light.h"
 #include "ray.h"
@@ -37,6 +38,9 @@ class RenderScene {
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
     /// The same query writing into `hit` (left unspecified on a miss, when it returns false).
     bool intersect(const Ray& ray, SurfaceHit& hit) const;
+    /// Closest hits of `count` (1 to 8) rays traced together as one Embree packet: for coherent
+    /// rays such as the camera rays of neighbouring pixels. hits[i] is set where found[i].
+    void intersect8(const Ray* rays, int count, SurfaceHit* hits, bool* found) const;
     /// Whether anything blocks the ray within (0, ray.tMax).
     bool occluded(const Ray& ray) const;
     /// Bare Embree closest-hit queries (rtcIntersect1, no hit shading), writing the hit distance
@@ -67,7 +71,7 @@ class RenderScene {
     int areaLightIndex(const SurfaceHit& hit) const { return triangleOf(hit).areaLight; }
     /// Probability of choosing light i in lightSelection().
     float lightSelectionPmf(int i) const { return lightSelection_.pmf(uint32_t(i)); }
-    const Distribution1D& lightSelection() const { return lightSelection_; }
+    const AliasTable& lightSelection() const { return lightSelection_; }
     bool hasLights() const { return !lightSelection_.empty(); }
 
     /// Sample the light `lightIndex` as seen from ref; radiance includes textured emission.
@@ -102,6 +106,8 @@ class RenderScene {
         bool flat = false;       // the three vertex normals are equal: so is the frame everywhere
     };
 
+    /// The hit record of Embree's hit (mesh, triangle, barycentrics u, v, distance t).
+    void fillHit(uint32_t mesh, uint32_t tri, float u, float v, float t, SurfaceHit& hit) const;
     /// bsdfAt for a material with textures.
     Bsdf texturedBsdfAt(const SurfaceHit& hit) const;
     /// sampleLight for every kind of light (textured emission, punctual lights).
@@ -121,7 +127,7 @@ class RenderScene {
     std::vector<MeshInfo> meshes_;
     std::vector<TriangleInfo> triangles_;  // all meshes' triangles, mesh by mesh
     std::vector<Light> lights_;
-    Distribution1D lightSelection_;
+    AliasTable lightSelection_;
     struct Embree;
     std::unique_ptr<Embree> embree_;
 };

@@ -1,8 +1,11 @@
 // Chi-square tests of light sampling and of the sampling routines lights and cameras use.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
+#include "alias_table.h"
 #include "chi2.h"
 #include "render_scene.h"
 #include "sampling.h"
@@ -11,9 +14,9 @@
 namespace partita {
 namespace {
 
-// Five chi-square tests in this file share a family-wise false-alarm level of 1e-3.
+// Six chi-square tests in this file share a family-wise false-alarm level of 1e-3.
 constexpr double kFamilyAlpha = 1e-3;
-constexpr int kChi2Tests = 5;
+constexpr int kChi2Tests = 6;
 
 /// Pearson chi-square p-value of observed counts against expected probabilities (cells with
 /// expected count below 5 pooled).
@@ -121,6 +124,59 @@ TEST(LightSampling, LightSelectionFollowsPower) {
     for (int i = 0; i < n; ++i) observed[dist.sample(rng.nextFloat())] += 1;
     EXPECT_GE(discreteChi2PValue(observed, expected, n),
               test::sidakLevel(kFamilyAlpha, kChi2Tests));
+}
+
+TEST(AliasTable, DenseGridOfUDrawsEachIndexInProportionToItsWeight) {
+    // u on a grid of 2^20 evenly spaced values: each index is drawn for a union of intervals of
+    // u whose total length is its probability, so its grid count matches it to within the grid
+    // spacing per interval end (at most two intervals per bin, one bin per index).
+    const std::vector<float> weights = {0, 1, 3, 0, 0.5f, 1e-4f, 7, 0, 2.5f};
+    AliasTable table(weights);
+    const int n = int(weights.size()), grid = 1 << 20;
+    std::vector<double> count(size_t(n), 0);
+    for (int k = 0; k < grid; ++k) count[table.sample(float(k) / float(grid))] += 1;
+    double total = 0;
+    for (float w : weights) total += w;
+    for (int i = 0; i < n; ++i) {
+        double expected = weights[size_t(i)] / total;
+        EXPECT_NEAR(table.pmf(uint32_t(i)), expected, 1e-7) << "index " << i;
+        if (weights[size_t(i)] == 0) {
+            EXPECT_EQ(count[size_t(i)], 0) << "index " << i;
+        }
+        EXPECT_NEAR(count[size_t(i)] / grid, expected, 2.0 * n / grid) << "index " << i;
+    }
+}
+
+TEST(AliasTable, RandomWeightsPassChiSquare) {
+    Rng weightsRng(11, 3);
+    std::vector<float> weights(200);
+    // Spread over six orders of magnitude, a fifth of them zero.
+    for (float& w : weights)
+        w = weightsRng.nextFloat() < 0.2f ? 0.0f : std::pow(10.0f, 6 * weightsRng.nextFloat() - 3);
+    AliasTable table(weights);
+    std::vector<double> expected, observed(weights.size(), 0);
+    for (size_t i = 0; i < weights.size(); ++i) expected.push_back(table.pmf(uint32_t(i)));
+    Rng rng(12, 4);
+    const int n = 1'000'000;
+    for (int i = 0; i < n; ++i) observed[table.sample(rng.nextFloat())] += 1;
+    for (size_t i = 0; i < weights.size(); ++i)
+        if (weights[i] == 0) {
+            EXPECT_EQ(observed[i], 0) << "index " << i;
+        }
+    EXPECT_GE(discreteChi2PValue(observed, expected, n),
+              test::sidakLevel(kFamilyAlpha, kChi2Tests));
+}
+
+TEST(AliasTable, InvalidWeightsCountAsZero) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_TRUE(AliasTable(std::vector<float>{}).empty());
+    EXPECT_TRUE(AliasTable(std::vector<float>{0, -1, nan, inf}).empty());
+    AliasTable one(std::vector<float>{nan, -2, 5, inf});
+    ASSERT_FALSE(one.empty());
+    EXPECT_EQ(one.pmf(2), 1.0f);
+    for (float u : {0.0f, 0.1f, 0.25f, 0.5f, 0.74f, 0.75f, 0.99f, 0x1.fffffep-1f})
+        EXPECT_EQ(one.sample(u), 2u) << "u " << u;
 }
 
 TEST(LightSampling, UniformConeMatchesItsPdf) {

@@ -200,8 +200,8 @@ TEST(PathTracer, PathsTracedInPairsAddExactlyWhatSinglePathsAdd) {
         Vec2f u{rng.nextFloat(), rng.nextFloat()};
         return Ray{{0.1f, 1.0f, 0.3f}, sampleUniformSphere(u), kInf};
     };
-    Film single(width, height), paired(width, height);
-    PathCounters singleCounters, pairedCounters;
+    Film single(width, height), paired(width, height), pretraced(width, height);
+    PathCounters singleCounters, pairedCounters, pretracedCounters;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             FilmSink sink(single, x, y);
@@ -220,8 +220,25 @@ TEST(PathTracer, PathsTracedInPairsAddExactlyWhatSinglePathsAdd) {
                 samplePathPair(scene, a, b, settings, pairedCounters);
             }
         }
+    // Paths whose primary ray was traced before they start (as the integrator traces camera
+    // rays in packets) add the same again, the primary ray counted once.
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            FilmSink sink(pretraced, x, y);
+            for (int s = 0; s < spp; ++s) {
+                Rng rng = pixelSampleRng(5, x, y, width, uint64_t(s));
+                Ray ray = primary(rng);
+                SurfaceHit hit;
+                bool found = scene.intersect(ray, hit);
+                samplePath(scene, PathStart{ray, rng, sink, true, found ? &hit : nullptr}, settings,
+                           pretracedCounters);
+            }
+        }
     EXPECT_EQ(singleCounters.rays, pairedCounters.rays);
+    EXPECT_EQ(singleCounters.rays, pretracedCounters.rays);
+    LayeredImage three = pretraced.resolve(1.0f, 1024);
     LayeredImage one = single.resolve(1.0f, 1024), two = paired.resolve(1.0f, 1024);
+    EXPECT_EQ(one.combined.rgb, three.combined.rgb);
     EXPECT_GT(luminance(one.combined.mean()), 0.0f);
     EXPECT_GT(one.layers.size(), 4u);
     EXPECT_EQ(one.combined.rgb, two.combined.rgb);
@@ -230,6 +247,41 @@ TEST(PathTracer, PathsTracedInPairsAddExactlyWhatSinglePathsAdd) {
         EXPECT_EQ(one.layers[i].name, two.layers[i].name);
         EXPECT_EQ(one.layers[i].image.rgb, two.layers[i].image.rgb);
     }
+}
+
+TEST(PathTracer, CameraRayPacketsFindTheHitsOfSingleRays) {
+    // The integrator traces the camera rays of up to 8 neighbouring pixels as one Embree packet
+    // (RenderScene::intersect8). Each lane must find what the single-ray query finds: the same
+    // triangle, at the same distance up to the kernels' rounding, and misses where it misses.
+    RenderScene scene(test::specularBoxScene());
+    Camera camera(scene.data().cameras.at(0), 64, 48);
+    int hitsCompared = 0;
+    for (int count = 1; count <= 8; ++count)
+        for (int y = 0; y < 48; y += 3)
+            for (int x0 = 0; x0 + count <= 64; x0 += 5) {
+                Ray rays[8];
+                SurfaceHit packetHits[8];
+                bool found[8];
+                for (int i = 0; i < count; ++i)
+                    rays[i] = camera.generateRay({float(x0 + i) + 0.5f, float(y) + 0.5f});
+                scene.intersect8(rays, count, packetHits, found);
+                for (int i = 0; i < count; ++i) {
+                    SurfaceHit single;
+                    bool singleFound = scene.intersect(rays[i], single);
+                    ASSERT_EQ(found[i], singleFound) << "pixel " << x0 + i << ", " << y;
+                    if (!singleFound) continue;
+                    const SurfaceHit& h = packetHits[i];
+                    ASSERT_EQ(h.mesh, single.mesh);
+                    ASSERT_EQ(h.triangle, single.triangle);
+                    EXPECT_NEAR(h.t, single.t, 1e-5f * single.t);
+                    EXPECT_NEAR(h.p.x, single.p.x, 1e-4f);
+                    EXPECT_NEAR(h.p.y, single.p.y, 1e-4f);
+                    EXPECT_NEAR(h.p.z, single.p.z, 1e-4f);
+                    EXPECT_EQ(h.ng, single.ng);
+                    ++hitsCompared;
+                }
+            }
+    EXPECT_GT(hitsCompared, 1000);
 }
 
 class CancelOnFirstProgress : public RenderObserver {

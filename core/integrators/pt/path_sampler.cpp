@@ -63,12 +63,28 @@ class PathSampler {
         depth_ = 0;
     }
 
+    /// Starts the path of `path`. When its primary ray was traced already, the first step()
+    /// takes its hit (or miss) instead of tracing the ray again.
+    void start(const PathStart& path) {
+        start(path.primary);
+        primaryTraced_ = path.traced;
+        primaryFound_ = path.traced && path.hit != nullptr;
+        if (primaryFound_) hit_ = *path.hit;
+    }
+
     /// Traces the current ray and handles the vertex it finds: emission, next-event estimation
     /// and the continuation. False when the path has ended.
     bool step() {
         SurfaceHit& hit = hit_;
         ++counters_.rays;
-        if (!scene_.intersect(ray_, hit)) return false;
+        bool found;
+        if (primaryTraced_) {
+            primaryTraced_ = false;
+            found = primaryFound_;
+        } else {
+            found = scene_.intersect(ray_, hit);
+        }
+        if (!found) return false;
         if (state_.inMedium)
             state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray_.d));
         addEmission(hit, -ray_.d);
@@ -194,6 +210,8 @@ class PathSampler {
     Ray ray_;
     SurfaceHit hit_;
     int depth_ = 0;
+    bool primaryTraced_ = false;  // hit_ holds the primary ray's hit (if primaryFound_)
+    bool primaryFound_ = false;
 };
 
 }  // namespace
@@ -209,12 +227,20 @@ void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
     PathSampler<FilmSink>(scene, rng, settings, sink, counters).run(primary);
 }
 
+void samplePath(const RenderScene& scene, const PathStart& path,
+                const PathSamplerSettings& settings, PathCounters& counters) {
+    PathSampler<FilmSink> sampler(scene, path.rng, settings, path.sink, counters);
+    sampler.start(path);
+    while (sampler.step()) {
+    }
+}
+
 void samplePathPair(const RenderScene& scene, const PathStart& a, const PathStart& b,
                     const PathSamplerSettings& settings, PathCounters& counters) {
     PathSampler<FilmSink> first(scene, a.rng, settings, a.sink, counters);
     PathSampler<FilmSink> second(scene, b.rng, settings, b.sink, counters);
-    first.start(a.primary);
-    second.start(b.primary);
+    first.start(a);
+    second.start(b);
     // Alternate one vertex of each: consecutive ray queries then belong to independent paths,
     // so the processor overlaps one path's traversal with the other's shading (as it overlaps
     // the independent queries of a bare Embree loop) instead of waiting on each hit in turn.

@@ -54,12 +54,20 @@ class FilmSink;
 void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
                 const PathSamplerSettings& settings, FilmSink& sink, PathCounters& counters);
 
-/// One camera path's start: its primary ray, random numbers and film pixel.
+struct SurfaceHit;
+/// One camera path's start: its primary ray, random numbers and film pixel, and the primary
+/// ray's closest hit when it was already traced (in a packet with its neighbours): `traced`,
+/// and `hit` null for a miss.
 struct PathStart {
     Ray primary;
     Rng& rng;
     FilmSink& sink;
+    bool traced = false;
+    const SurfaceHit* hit = nullptr;
 };
+/// samplePath from a PathStart (whose primary ray may have been traced already).
+void samplePath(const RenderScene& scene, const PathStart& path,
+                const PathSamplerSettings& settings, PathCounters& counters);
 /// Two independent paths, traced in lockstep (a vertex of one, then of the other). Each path's
 /// contributions, and their order, are exactly those of samplePath; only the interleaving of the
 /// two differs, so the paths should go to different pixels for a pixel's sums to be unchanged.

@@ -1,10 +1,12 @@
 #include "integrators/pt/pt_integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <optional>
 
 #include "camera.h"
 #include "film.h"
@@ -107,40 +109,45 @@ class PathTracerRun {
             int x1 = std::min(x0 + Film::kTileSize, film_.width());
             int y1 = std::min(y0 + Film::kTileSize, film_.height());
             PathCounters counters;
-            for (int y = y0; y < y1; ++y) {
-                int x = x0;
-                for (; x + 1 < x1; x += 2) renderPixelPair(x, y, range, counters);
-                if (x < x1) renderPixel(x, y, range, counters);
-            }
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; x += kPacketWidth)
+                    renderPixelRun(x, y, std::min(kPacketWidth, x1 - x), range, counters);
             rays_.fetch_add(counters.rays, std::memory_order_relaxed);
             progress.advance(double(x1 - x0) * (y1 - y0) *
                              double(range.endSample - range.firstSample));
         });
     }
 
-    void renderPixel(int x, int y, PassRange range, PathCounters& counters) {
-        FilmSink sink(film_, x, y);
-        for (uint64_t s = range.firstSample; s < range.endSample; ++s) {
-            Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), s);
-            Vec2f u{rng.nextFloat(), rng.nextFloat()};
-            Ray ray = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
-            samplePath(ctx_.scene, ray, rng, samplerSettings_, sink, counters);
-        }
-    }
+    static constexpr int kPacketWidth = 8;  // pixels whose camera rays form one Embree packet
 
-    /// Pixels (x, y) and (x + 1, y), sample by sample: each pixel gets exactly what
-    /// renderPixel gives it, in the same order (so the image does not change), while the two
-    /// paths of each sample index are traced in lockstep (samplePathPair).
-    void renderPixelPair(int x, int y, PassRange range, PathCounters& counters) {
-        FilmSink sinkA(film_, x, y), sinkB(film_, x + 1, y);
+    /// Pixels (x, y) to (x + n - 1, y), n <= kPacketWidth, sample by sample. The n camera rays
+    /// of one sample index are traced as one packet (neighbouring camera rays are coherent, so
+    /// Embree's packet kernel traverses the BVH for all of them at once), and the paths then
+    /// continue two at a time in lockstep (samplePathPair). Every pixel draws its random numbers
+    /// from its own stream and gets its samples in index order, so its sums do not depend on
+    /// how pixels are grouped.
+    void renderPixelRun(int x, int y, int n, PassRange range, PathCounters& counters) {
+        std::array<std::optional<FilmSink>, kPacketWidth> sinks;
+        for (int i = 0; i < n; ++i) sinks[size_t(i)].emplace(film_, x + i, y);
+        std::array<Rng, kPacketWidth> rngs;
+        std::array<Ray, kPacketWidth> rays;
+        std::array<SurfaceHit, kPacketWidth> hits;
+        bool found[kPacketWidth];
         for (uint64_t s = range.firstSample; s < range.endSample; ++s) {
-            Rng rngA = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), s);
-            Rng rngB = pixelSampleRng(ctx_.settings.seed, x + 1, y, film_.width(), s);
-            Vec2f uA{rngA.nextFloat(), rngA.nextFloat()};
-            Vec2f uB{rngB.nextFloat(), rngB.nextFloat()};
-            PathStart a{ctx_.camera.generateRay(filteredRasterPosition(x, y, uA)), rngA, sinkA};
-            PathStart b{ctx_.camera.generateRay(filteredRasterPosition(x + 1, y, uB)), rngB, sinkB};
-            samplePathPair(ctx_.scene, a, b, samplerSettings_, counters);
+            for (int i = 0; i < n; ++i) {
+                rngs[size_t(i)] = pixelSampleRng(ctx_.settings.seed, x + i, y, film_.width(), s);
+                Vec2f u{rngs[size_t(i)].nextFloat(), rngs[size_t(i)].nextFloat()};
+                rays[size_t(i)] = ctx_.camera.generateRay(filteredRasterPosition(x + i, y, u));
+            }
+            ctx_.scene.intersect8(rays.data(), n, hits.data(), found);
+            auto path = [&](int i) {
+                return PathStart{rays[size_t(i)], rngs[size_t(i)], *sinks[size_t(i)], true,
+                                 found[i] ? &hits[size_t(i)] : nullptr};
+            };
+            int i = 0;
+            for (; i + 1 < n; i += 2)
+                samplePathPair(ctx_.scene, path(i), path(i + 1), samplerSettings_, counters);
+            if (i < n) samplePath(ctx_.scene, path(i), samplerSettings_, counters);
         }
     }
 
