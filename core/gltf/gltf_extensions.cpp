@@ -11,11 +11,13 @@ namespace {
 
 // KHR_mesh_quantization is honoured because every accessor is read with its own component type
 // and `normalized` flag. KHR_materials_volume's thickness is not needed by a ray tracer that sees
-// the real geometry.
-constexpr std::array<std::string_view, 7> kSupported = {
+// the real geometry. KHR_materials_variants only adds alternative material mappings: the
+// primitives' own materials, which it leaves in place, are the default variant and are what is
+// rendered (as a viewer does before a variant is picked).
+constexpr std::array<std::string_view, 8> kSupported = {
     "KHR_materials_transmission",      "KHR_materials_ior",     "KHR_materials_volume",
     "KHR_materials_emissive_strength", "KHR_texture_transform", "KHR_lights_punctual",
-    "KHR_mesh_quantization",
+    "KHR_mesh_quantization",           "KHR_materials_variants",
 };
 
 std::string why(const std::string& name) {

@@ -375,7 +375,7 @@ TEST(GltfExtensions, SupportedRequiredExtensionsLoad) {
     json names = {"KHR_materials_transmission", "KHR_materials_ior",
                   "KHR_materials_volume",       "KHR_materials_emissive_strength",
                   "KHR_texture_transform",      "KHR_lights_punctual",
-                  "KHR_mesh_quantization"};
+                  "KHR_mesh_quantization",      "KHR_materials_variants"};
     b.doc["extensionsUsed"] = names;
     b.doc["extensionsRequired"] = names;
     SceneData s = loadJson(b.embedded());
