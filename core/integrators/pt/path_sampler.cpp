@@ -48,6 +48,11 @@ class PathSampler {
     PathSampler(const RenderScene& scene, Rng& rng, const PathSamplerSettings& settings, Sink& sink,
                 PathCounters& counters)
         : scene_(scene), rng_(rng), settings_(settings), sink_(sink), counters_(counters) {}
+    // Rays are counted here and added to the shared counters once: two samplers in lockstep
+    // would otherwise chain their steps through one counter in memory.
+    ~PathSampler() { counters_.rays += rays_; }
+    PathSampler(const PathSampler&) = delete;
+    PathSampler& operator=(const PathSampler&) = delete;
 
     void run(Ray ray) {
         start(ray);
@@ -76,7 +81,7 @@ class PathSampler {
     /// and the continuation. False when the path has ended.
     bool step() {
         SurfaceHit& hit = hit_;
-        ++counters_.rays;
+        ++rays_;
         bool found;
         if (primaryTraced_) {
             primaryTraced_ = false;
@@ -162,7 +167,7 @@ class PathSampler {
         BoundBsdf::Value b = bsdf.evalPdf(ls.wi);
         Rgb f = b.f * absDot(ls.wi, hit.ns);
         if (isBlack(f)) return;
-        ++counters_.rays;
+        ++rays_;
         Ray shadow = shadowRayFrom(origins.towards(ls.point - hit.p), hit.p, ls.point, ls.normal);
         if (scene_.occluded(shadow)) return;
         float lightPdf = scene_.lightSelectionPmf(light) * ls.pdf;
@@ -206,6 +211,7 @@ class PathSampler {
     const PathSamplerSettings& settings_;
     Sink& sink_;
     PathCounters& counters_;
+    uint64_t rays_ = 0;
     PathState state_;
     Ray ray_;
     SurfaceHit hit_;
