@@ -73,7 +73,19 @@ void checkSize(const LoadContext& ctx, ImageSize size, const std::string& what) 
               ctx.limits.maxTexturePixels);
 }
 
-DecodedImage toFloatRgba(const tinygltf::Image& decoded, const std::string& what) {
+/// The channels of pixel p as RGBA: grey replicated to G and B, alpha opaque unless given.
+template <typename T>
+void expandToRgba(const T* in, int comp, T opaque, T* out) {
+    if (comp <= 2) {  // grey (+ alpha)
+        out[0] = out[1] = out[2] = in[0];
+        out[3] = comp == 2 ? in[1] : opaque;
+    } else {
+        for (int c = 0; c < 3; ++c) out[c] = in[c];
+        out[3] = comp == 4 ? in[3] : opaque;
+    }
+}
+
+DecodedImage toRgba(const tinygltf::Image& decoded, const std::string& what) {
     int comp = decoded.component, bytesPerChannel = decoded.bits / 8;
     if (decoded.width <= 0 || decoded.height <= 0 || comp < 1 || comp > 4 ||
         (bytesPerChannel != 1 && bytesPerChannel != 2))
@@ -84,27 +96,21 @@ DecodedImage toFloatRgba(const tinygltf::Image& decoded, const std::string& what
     DecodedImage out;
     out.width = decoded.width;
     out.height = decoded.height;
-    out.rgba.assign(pixels * 4, 1.0f);
-    float scale = bytesPerChannel == 1 ? 1.f / 255.f : 1.f / 65535.f;
+    if (bytesPerChannel == 1) {
+        out.rgba8.resize(pixels * 4);
+        for (size_t p = 0; p < pixels; ++p)
+            expandToRgba(&decoded.image[p * size_t(comp)], comp, uint8_t(255), &out.rgba8[p * 4]);
+        return out;
+    }
+    out.rgba.resize(pixels * 4);
     for (size_t p = 0; p < pixels; ++p) {
         float v[4];
         for (int c = 0; c < comp; ++c) {
-            size_t at = (p * size_t(comp) + size_t(c)) * size_t(bytesPerChannel);
-            uint32_t raw = decoded.image[at];
-            if (bytesPerChannel == 2) {
-                uint16_t wide;
-                std::memcpy(&wide, &decoded.image[at], 2);  // stb returns native-endian shorts
-                raw = wide;
-            }
-            v[c] = float(raw) * scale;
+            uint16_t wide;  // stb returns native-endian shorts
+            std::memcpy(&wide, &decoded.image[(p * size_t(comp) + size_t(c)) * 2], 2);
+            v[c] = float(wide) * (1.f / 65535.f);
         }
-        float* dst = &out.rgba[p * 4];
-        if (comp <= 2) {  // grey (+ alpha)
-            dst[0] = dst[1] = dst[2] = v[0];
-            if (comp == 2) dst[3] = v[1];
-        } else {
-            for (int c = 0; c < comp; ++c) dst[c] = v[c];
-        }
+        expandToRgba(v, comp, 1.0f, &out.rgba[p * 4]);
     }
     return out;
 }
@@ -133,7 +139,7 @@ DecodedImage decodeImage(const LoadContext& ctx, const TinyGltfIo& io, int index
     if (!tinygltf::LoadImageData(&decoded, index, &err, &warn, 0, 0, data, int(size), nullptr))
         failf("{}: could not be decoded (corrupt or unsupported PNG/JPEG)", what);
     checkSize(ctx, {uint32_t(decoded.width), uint32_t(decoded.height)}, what);
-    return toFloatRgba(decoded, what);
+    return toRgba(decoded, what);
 }
 
 }  // namespace partita::gltf

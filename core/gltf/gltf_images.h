@@ -13,9 +13,12 @@ struct LoadContext;
 class TinyGltfIo;
 
 /// RGBA values in [0, 1] as stored in the file (no colour-space conversion yet).
+/// Texels as RGBA (grey replicated, missing alpha opaque), row 0 at the top: the bytes of an
+/// 8-bit image, or values in [0, 1] for a 16-bit one; the other vector is empty.
 struct DecodedImage {
     int width = 0, height = 0;
-    std::vector<float> rgba;  // width * height * 4, row 0 at the top
+    std::vector<uint8_t> rgba8;  // width * height * 4, for 8-bit images
+    std::vector<float> rgba;     // width * height * 4, for 16-bit images
 };
 
 /// Decodes glTF image `index`; a missing, unreadable, oversized or undecodable image fails with

@@ -90,8 +90,16 @@ int TextureCache::get(int textureIndex, ColorSpace space, const std::string& wha
     texture.name = textureName(ctx_.model, gltfTexture.source);
     texture.width = decoded.width;
     texture.height = decoded.height;
-    texture.rgba = decoded.rgba;
-    if (space == ColorSpace::Srgb) convertSrgbToLinear(texture.rgba);
+    if (!decoded.rgba8.empty()) {
+        texture.rgba8 = decoded.rgba8;
+        for (int b = 0; b < 256; ++b) {
+            float v = float(b) * (1.f / 255.f);
+            texture.colorOf8[size_t(b)] = space == ColorSpace::Srgb ? srgbToLinear(v) : v;
+        }
+    } else {
+        texture.rgba = decoded.rgba;
+        if (space == ColorSpace::Srgb) convertSrgbToLinear(texture.rgba);
+    }
     applySampler(ctx_, gltfTexture.sampler, texture);
 
     int index = int(ctx_.scene.textures.size());

@@ -134,12 +134,47 @@ TEST(GltfTextures, BaseColorIsDecodedFromSrgbAndAlphaStaysLinear) {
     const Texture& t = s.textures[0];
     EXPECT_EQ(t.width, 2);
     EXPECT_EQ(t.height, 1);
-    EXPECT_NEAR(t.rgba[0], gltf::srgbToLinear(128 / 255.f), 1e-6);
-    EXPECT_NEAR(t.rgba[0], 0.2158f, 1e-3);
-    EXPECT_NEAR(t.rgba[2], 1.0f, 1e-6);
-    EXPECT_NEAR(t.rgba[3], 128 / 255.f, 1e-6);  // alpha not converted
-    EXPECT_NEAR(t.rgba[5], 1.0f, 1e-6);
+    EXPECT_NEAR(t.channel(0, 0, 0), gltf::srgbToLinear(128 / 255.f), 1e-6);
+    EXPECT_NEAR(t.channel(0, 0, 0), 0.2158f, 1e-3);
+    EXPECT_NEAR(t.channel(0, 0, 2), 1.0f, 1e-6);
+    EXPECT_NEAR(t.channel(0, 0, 3), 128 / 255.f, 1e-6);  // alpha not converted
+    EXPECT_NEAR(t.channel(1, 0, 1), 1.0f, 1e-6);
     EXPECT_EQ(s.materials[0].baseColorTexture.texture, 0);
+}
+
+TEST(GltfTextures, EightBitImagesKeepTheirBytesAndLookUpAsIfConvertedAtLoad) {
+    // A 3x2 RGB image with 8 bits per channel is kept as bytes (four per texel, alpha opaque);
+    // lookups give, bit for bit, what a float texture of the converted values gives.
+    std::vector<uint16_t> bytes = {0,  1,  2,  127, 128, 129, 200, 254, 255,
+                                   17, 64, 99, 255, 0,   33,  5,   250, 180};
+    GltfBuilder b =
+        withMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+    addImage(b, makePng(3, 2, 3, bytes, 8));
+    SceneData s = loadJson(b.embedded());
+    const Texture& t = s.textures[0];
+    EXPECT_TRUE(t.rgba.empty());
+    ASSERT_EQ(t.rgba8.size(), 3u * 2u * 4u);
+    Texture converted = t;
+    converted.rgba8.clear();
+    for (size_t p = 0; p < 6; ++p) {
+        for (size_t c = 0; c < 3; ++c)
+            converted.rgba.push_back(gltf::srgbToLinear(float(bytes[p * 3 + c]) * (1.f / 255.f)));
+        converted.rgba.push_back(1.0f);
+    }
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 3; ++x)
+            for (int c = 0; c < 4; ++c)
+                EXPECT_EQ(t.channel(x, y, c), converted.rgba[size_t((y * 3 + x) * 4 + c)]);
+    for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Nearest}) {
+        Texture eight = t;
+        eight.filter = converted.filter = filter;
+        for (float u = -1.0f; u <= 2.0f; u += 0.037f)
+            for (float v = -1.0f; v <= 2.0f; v += 0.041f) {
+                Rgba got = eight.lookup({u, v}), want = converted.lookup({u, v});
+                ASSERT_EQ(got.rgb, want.rgb) << u << ", " << v;
+                ASSERT_EQ(got.a, want.a) << u << ", " << v;
+            }
+    }
 }
 
 TEST(GltfTextures, MetallicRoughnessIsLinear) {
@@ -147,7 +182,7 @@ TEST(GltfTextures, MetallicRoughnessIsLinear) {
         withMaterial({{"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}}}});
     addImage(b, twoPixelPng());
     SceneData s = loadJson(b.embedded());
-    EXPECT_NEAR(s.textures[0].rgba[0], 128 / 255.f, 1e-6);
+    EXPECT_NEAR(s.textures[0].channel(0, 0, 0), 128 / 255.f, 1e-6);
     EXPECT_EQ(s.materials[0].metallicRoughnessTexture.texture, 0);
 }
 
@@ -237,9 +272,9 @@ TEST(GltfTextures, SixteenBitGreyPng) {
     addImage(b, makePng(2, 2, 1, {0, 65535, 32768, 1000}, 16));
     SceneData s = loadJson(b.embedded());
     const Texture& t = s.textures[0];
-    EXPECT_NEAR(t.rgba[4], 1.0f, 1e-6);
-    EXPECT_NEAR(t.rgba[8 + 1], 32768 / 65535.f, 1e-6);  // grey replicated to G
-    EXPECT_NEAR(t.rgba[11], 1.0f, 1e-6);                // opaque alpha
+    EXPECT_NEAR(t.channel(1, 0, 0), 1.0f, 1e-6);
+    EXPECT_NEAR(t.channel(0, 1, 1), 32768 / 65535.f, 1e-6);  // grey replicated to G
+    EXPECT_NEAR(t.channel(0, 1, 3), 1.0f, 1e-6);             // opaque alpha
 }
 
 TEST(GltfTextures, ExternalImageFromTheSceneFolder) {
@@ -263,7 +298,7 @@ TEST(GltfTextures, GlbImageInABufferView) {
     SceneData s = loadGltfMemory(b.glb(), true, MemoryResolver({}));
     ASSERT_EQ(s.textures.size(), 1u);
     EXPECT_EQ(s.materials[0].emissiveTexture.texture, 0);
-    EXPECT_NEAR(s.textures[0].rgba[5], 1.0f, 1e-6);
+    EXPECT_NEAR(s.textures[0].channel(1, 0, 1), 1.0f, 1e-6);
 }
 
 // ---- texture errors ----
