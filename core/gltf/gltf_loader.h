@@ -23,8 +23,9 @@ struct GltfLoadLimits {
     uint64_t maxTriangles = 50'000'000;
     uint64_t maxTexturePixels = uint64_t(1) << 26;  // per texture (8192 x 8192)
     int maxNodeDepth = 256;                         // guards against deep or cyclic hierarchies
-    // All textures together (each Texture counts; 16 bytes of float RGBA per pixel): many small,
-    // highly compressible PNGs must not add up to an unbounded amount of memory.
+    // All textures together (each Texture counts; 4 bytes per pixel for 8-bit images, 16 for
+    // 16-bit ones, which are kept as float): many small, highly compressible PNGs must not add
+    // up to an unbounded amount of memory.
     uint64_t maxTotalTexturePixels = uint64_t(1) << 28;
 };
 
