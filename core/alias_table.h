@@ -19,7 +19,6 @@ class AliasTable {
     size_t size() const { return bins_.size(); }
     /// No index can be drawn: no weights, or none positive.
     bool empty() const { return total_ <= 0; }
-    double total() const { return total_; }
     float pmf(uint32_t i) const { return bins_[i].pmf; }
 
     /// Index i with probability pmf(i), for u in [0, 1): bin floor(u n) is chosen uniformly,

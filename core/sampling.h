@@ -1,14 +1,11 @@
-// Warping functions from the unit square to common domains, with their densities, plus a
-// piecewise-constant 1D distribution for discrete choices (lights, triangles). The warps a path
-// tracer calls at every vertex are inline.
+// Warping functions from the unit square to common domains, with their densities. The warps a
+// path tracer calls at every vertex are inline. Discrete choices (lights) use AliasTable.
 #pragma once
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <span>
-#include <vector>
 
 #include "math/vec.h"
 
@@ -90,49 +87,6 @@ inline float powerHeuristic(float pdfA, float pdfB) {
     float a = pdfA * pdfA, b = pdfB * pdfB;
     if (std::isinf(a)) return 1.0f;
     return a + b > 0 ? a / (a + b) : 0.0f;
-}
-
-/// Discrete distribution proportional to non-negative weights.
-class Distribution1D {
-  public:
-    Distribution1D() = default;
-    explicit Distribution1D(std::span<const float> weights);
-
-    size_t size() const { return pmf_.size(); }
-    bool empty() const { return pmf_.empty() || total_ <= 0; }
-    double total() const { return total_; }
-    /// Index i chosen with probability pmf(i). `u` in [0, 1); `uRemapped` (optional) receives a
-    /// fresh uniform variate recovered from the leftover of u.
-    uint32_t sample(float u, float* uRemapped = nullptr) const;
-    float pmf(uint32_t i) const { return pmf_[i]; }
-
-  private:
-    std::vector<float> pmf_;
-    std::vector<double> cdf_;  // cdf_[i] = sum of pmf over [0, i); size + 1 entries
-    double total_ = 0;
-};
-
-// Inline: next-event estimation picks a light at every path vertex.
-inline uint32_t Distribution1D::sample(float u, float* uRemapped) const {
-    // Largest i with cdf_[i] <= u (or 0), skipping zero-probability entries. A branchless binary
-    // search (the step is a conditional move): the index drawn is as good as random to a
-    // branch predictor. Invariant: the answer lies in [base, base + len).
-    const double x = u;
-    size_t base = 0, len = cdf_.size();
-    while (len > 1) {
-        size_t half = len / 2;
-        base = cdf_[base + half] <= x ? base + half : base;
-        len -= half;
-    }
-    size_t i = std::min(base, pmf_.size() - 1);
-    while (pmf_[i] == 0 && i > 0) --i;
-    while (pmf_[i] == 0 && i + 1 < pmf_.size()) ++i;
-    if (uRemapped) {
-        double width = cdf_[i + 1] - cdf_[i];
-        double rem = width > 0 ? (double(u) - cdf_[i]) / width : 0.0;
-        *uRemapped = float(std::clamp(rem, 0.0, 0x1.fffffep-1));
-    }
-    return uint32_t(i);
 }
 
 }  // namespace partita
