@@ -22,6 +22,23 @@ struct RenderScene::Embree {
 };
 
 namespace {
+/// `ray` as Embree's single ray, searched over (0, ray.tMax).
+RTCRay embreeRay(const Ray& ray) {
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = 0;
+    r.tfar = ray.tMax;
+    r.mask = 0xFFFFFFFFu;
+    r.flags = 0;
+    r.time = 0;
+    return r;
+}
+
 void embreeError(void*, RTCError code, const char* message) {
     spdlog::error("embree error {}: {}", int(code), message ? message : "");
 }
@@ -175,17 +192,7 @@ bool RenderScene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
-    rh.ray.org_x = ray.o.x;
-    rh.ray.org_y = ray.o.y;
-    rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x;
-    rh.ray.dir_y = ray.d.y;
-    rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = 0;
-    rh.ray.tfar = ray.tMax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.flags = 0;
-    rh.ray.time = 0;
+    rh.ray = embreeRay(ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -256,17 +263,7 @@ void RenderScene::intersectRaw(const Ray* rays, size_t count, float* tHit) const
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < count; ++i) {
         RTCRayHit rh;
-        rh.ray.org_x = rays[i].o.x;
-        rh.ray.org_y = rays[i].o.y;
-        rh.ray.org_z = rays[i].o.z;
-        rh.ray.dir_x = rays[i].d.x;
-        rh.ray.dir_y = rays[i].d.y;
-        rh.ray.dir_z = rays[i].d.z;
-        rh.ray.tnear = 0;
-        rh.ray.tfar = rays[i].tMax;
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.flags = 0;
-        rh.ray.time = 0;
+        rh.ray = embreeRay(rays[i]);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(embree_->scene, &context, &rh);
         tHit[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kInf : rh.ray.tfar;
@@ -276,18 +273,7 @@ void RenderScene::intersectRaw(const Ray* rays, size_t count, float* tHit) const
 bool RenderScene::occluded(const Ray& ray) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay r;
-    r.org_x = ray.o.x;
-    r.org_y = ray.o.y;
-    r.org_z = ray.o.z;
-    r.dir_x = ray.d.x;
-    r.dir_y = ray.d.y;
-    r.dir_z = ray.d.z;
-    r.tnear = 0;
-    r.tfar = ray.tMax;
-    r.mask = 0xFFFFFFFFu;
-    r.flags = 0;
-    r.time = 0;
+    RTCRay r = embreeRay(ray);
     rtcOccluded1(embree_->scene, &context, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
