@@ -48,24 +48,18 @@ Vec2f TextureRef::transformUv(Vec2f uv) const {
     return {c * x + s * y + offset.x, -s * x + c * y + offset.y};
 }
 
-float Texture::channel(int x, int y, int c) const {
-    const size_t at = (size_t(y) * width + x) * 4 + size_t(c);
-    if (rgba8.empty()) return rgba[at];
-    return c == 3 ? alphaOf8(rgba8[at]) : colorOf8[rgba8[at]];
+Rgba Texture::texel(int x, int y) const {
+    const size_t at = (size_t(y) * width + x) * 4;
+    if (!rgba8.empty()) {
+        const uint8_t* p = &rgba8[at];
+        return Rgba{{colorOf8[p[0]], colorOf8[p[1]], colorOf8[p[2]]}, alphaOf8(p[3])};
+    }
+    const float* p = &rgba[at];
+    return Rgba{{p[0], p[1], p[2]}, p[3]};
 }
 
 Rgba Texture::lookup(Vec2f uv) const {
     if (width <= 0 || height <= 0) return {};
-    // Texel (x, y) of indices already wrapped into the image.
-    auto texel = [&](int x, int y) {
-        const size_t at = (size_t(y) * width + x) * 4;
-        if (!rgba8.empty()) {
-            const uint8_t* p = &rgba8[at];
-            return Rgba{{colorOf8[p[0]], colorOf8[p[1]], colorOf8[p[2]]}, alphaOf8(p[3])};
-        }
-        const float* p = &rgba[at];
-        return Rgba{{p[0], p[1], p[2]}, p[3]};
-    };
     auto wrapped = [&](int x, int y) {
         return texel(wrapIndex(x, width, wrapS), wrapIndex(y, height, wrapT));
     };

@@ -37,8 +37,13 @@ struct Texture {
     WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
     TextureFilter filter = TextureFilter::Linear;
 
-    /// Channel c (0 to 3: R, G, B, A) of texel (x, y), in linear values, whichever the form.
-    float channel(int x, int y, int c) const;
+    /// Texel (x, y), 0 <= x < width and 0 <= y < height, in linear values, whichever the form.
+    Rgba texel(int x, int y) const;
+    /// One channel (0 to 3: R, G, B, A) of texel (x, y).
+    float channel(int x, int y, int c) const {
+        Rgba t = texel(x, y);
+        return c == 3 ? t.a : t.rgb[c];
+    }
     /// Filtered lookup at texture coordinate uv (glTF convention: v grows downwards).
     Rgba lookup(Vec2f uv) const;
 };

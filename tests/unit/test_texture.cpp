@@ -86,16 +86,25 @@ TEST(Texture, LookupMatchesTheTexelByTexelReferenceForEveryWrapModeAndFilter) {
 }
 
 TEST(Texture, HugeAndNonFiniteCoordinatesStayInsideTheImage) {
+    // Texels in [0.25, 0.75]: a blend of texels stays in that range, while memory read from
+    // outside the image (or a garbage conversion of a huge coordinate) would not.
     Texture tex =
         randomTexture(4, 4, WrapMode::Repeat, WrapMode::MirroredRepeat, TextureFilter::Linear);
-    const float inf = std::numeric_limits<float>::infinity();
-    for (Vec2f uv : {Vec2f{1e9f, -1e9f}, Vec2f{-3e30f, 2e20f}, Vec2f{inf, 0.5f},
-                     Vec2f{0.5f, std::numeric_limits<float>::quiet_NaN()}}) {
+    for (float& v : tex.rgba) v = 0.25f + 0.5f * v;
+    for (Vec2f uv : {Vec2f{1e9f, -1e9f}, Vec2f{-3e30f, 2e20f}, Vec2f{4096.3f, -8192.7f}}) {
         Rgba v = tex.lookup(uv);
         for (int k = 0; k < 3; ++k) {
-            EXPECT_GE(v.rgb[k], 0.0f);
-            EXPECT_LE(v.rgb[k], 1.0f);
+            EXPECT_GE(v.rgb[k], 0.25f) << uv.x << ", " << uv.y;
+            EXPECT_LE(v.rgb[k], 0.75f) << uv.x << ", " << uv.y;
         }
+    }
+    // A coordinate that is not finite reads the first texel.
+    const float inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (Vec2f uv : {Vec2f{inf, 0.5f}, Vec2f{0.5f, nan}, Vec2f{-inf, inf}}) {
+        Rgba v = tex.lookup(uv), first = tex.texel(0, 0);
+        EXPECT_EQ(v.rgb, first.rgb);
+        EXPECT_EQ(v.a, first.a);
     }
 }
 
