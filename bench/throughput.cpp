@@ -152,6 +152,7 @@ nlohmann::json runThroughput(const ThroughputOptions& o) {
     out["width"] = o.width;
     out["height"] = o.height;
     out["spp"] = o.spp;
+    out["march"] = PARTITA_EVAL_MARCH;  // the instruction set of this build: compare like with like
     out["embree_rays_per_s"] = embree.wall;
     out["pt_rays_per_s"] = one.rays.wall;
     double ratio = median(roundRatios), ratioCpu = median(roundCpuRatios);
@@ -161,8 +162,8 @@ nlohmann::json runThroughput(const ThroughputOptions& o) {
     out["embree_rays_per_cpu_s"] = embree.cpu;
     out["pt_rays_per_cpu_s"] = one.rays.cpu;
     out["ratio_cpu"] = ratioCpu;
-    std::printf("scene %s (%dx%d, %d spp per run, best of %d)\n", o.scene.c_str(), o.width,
-                o.height, o.spp, o.repeats);
+    std::printf("scene %s (%dx%d, %d spp per run, best of %d; built for -march=%s)\n",
+                o.scene.c_str(), o.width, o.height, o.spp, o.repeats, PARTITA_EVAL_MARCH);
     std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n",
                 "embree rtcIntersect1 incoherent", embree.wall / 1e6, embree.cpu / 1e6);
     std::printf("  %-34s %12.3f M rays/s (1 thread; %.3f per CPU second)\n",
