@@ -1,9 +1,10 @@
 // Shared types for BSDF lobes. A lobe works in the local shading frame: z is the shading normal,
-// wo and wi point away from the surface. Every lobe provides
+// wo and wi point away from the surface. Every lobe provides (sample's wi in the local frame)
 //   Rgb eval(Vec3f wo, Vec3f wi, TransportMode) const;
 //   float pdf(Vec3f wo, Vec3f wi) const;
-//   std::optional<BsdfSample> sample(Vec3f wo, float uc, Vec2f u, TransportMode) const;  // wi
-//   local bool isDelta() const; Rgb albedo() const;
+//   std::optional<BsdfSample> sample(Vec3f wo, float uc, Vec2f u, TransportMode) const;
+//   bool isDelta() const;
+//   Rgb albedo() const;
 #pragma once
 
 #include "math/vec.h"
