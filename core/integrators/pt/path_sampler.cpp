@@ -54,8 +54,10 @@ class PathSampler {
     PathSampler(const PathSampler&) = delete;
     PathSampler& operator=(const PathSampler&) = delete;
 
-    void run(Ray ray) {
-        start(ray);
+    /// The whole path from `from`: a primary Ray or a PathStart (see start).
+    template <typename Start>
+    void run(const Start& from) {
+        start(from);
         while (step()) {
         }
     }
@@ -235,10 +237,7 @@ void samplePath(const RenderScene& scene, const Ray& primary, Rng& rng,
 
 void samplePath(const RenderScene& scene, const PathStart& path,
                 const PathSamplerSettings& settings, PathCounters& counters) {
-    PathSampler<FilmSink> sampler(scene, path.rng, settings, path.sink, counters);
-    sampler.start(path);
-    while (sampler.step()) {
-    }
+    PathSampler<FilmSink>(scene, path.rng, settings, path.sink, counters).run(path);
 }
 
 void samplePathPair(const RenderScene& scene, const PathStart& a, const PathStart& b,
