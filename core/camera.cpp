@@ -45,4 +45,40 @@ std::optional<Vec2f> Camera::rasterFromWorld(Vec3f p) const {
     return raster;
 }
 
+std::optional<Vec2f> Camera::rasterOf(Vec3f p) const {
+    Vec3f d = p - origin_;
+    float z = dot(d, forward_);
+    float x = dot(d, right_), y = dot(d, up_);
+    if (!orthographic_) {
+        if (z <= 0) return std::nullopt;
+        x /= z;
+        y /= z;
+    }
+    return Vec2f{(x + halfWidth_) / pixelWidth_, (halfHeight_ - y) / pixelHeight_};
+}
+
+bool Camera::inImportanceSupport(Vec2f r) const {
+    return r.x >= -0.5f && r.x < float(width_) + 0.5f && r.y >= -0.5f &&
+           r.y < float(height_) + 0.5f;
+}
+
+float Camera::importance(Vec3f w) const {
+    if (orthographic_) return 0;
+    float cosTheta = dot(w, forward_);
+    if (cosTheta <= 0) return 0;
+    std::optional<Vec2f> r = rasterOf(origin_ + w);
+    if (!r || !inImportanceSupport(*r)) return 0;
+    float cos2 = cosTheta * cosTheta;
+    return 1 / (imagePlaneArea() * cos2 * cos2);
+}
+
+float Camera::directionPdf(Vec3f w) const {
+    if (orthographic_) return 1 / imagePlaneArea();
+    float cosTheta = dot(w, forward_);
+    if (cosTheta <= 0) return 0;
+    std::optional<Vec2f> r = rasterOf(origin_ + w);
+    if (!r || !inImportanceSupport(*r)) return 0;
+    return 1 / (imagePlaneArea() * cosTheta * cosTheta * cosTheta);
+}
+
 }  // namespace partita

@@ -252,6 +252,14 @@ void RenderScene::intersect8(const Ray* rays, int count, SurfaceHit* hits, bool*
     }
 }
 
+SurfaceHit RenderScene::hitAt(uint32_t mesh, uint32_t triangle, Vec2f barycentric) const {
+    if (mesh >= data_.meshes.size() || size_t(triangle) * 3 >= data_.meshes[mesh].indices.size())
+        throw std::out_of_range("no such mesh triangle");
+    SurfaceHit hit;
+    fillHit(mesh, triangle, barycentric.x, barycentric.y, 0, hit);
+    return hit;
+}
+
 std::optional<SurfaceHit> RenderScene::intersect(const Ray& ray) const {
     SurfaceHit hit;
     if (!intersect(ray, hit)) return std::nullopt;

@@ -43,6 +43,10 @@ class RenderScene {
     void intersect8(const Ray* rays, int count, SurfaceHit* hits, bool* found) const;
     /// Whether anything blocks the ray within (0, ray.tMax).
     bool occluded(const Ray& ray) const;
+    /// The hit record of the point with Embree barycentrics (u, v) on triangle `triangle` of mesh
+    /// `mesh` (t = 0), as a ray would have found it: for rebuilding a stored path vertex.
+    /// Throws std::out_of_range for a mesh or triangle that does not exist.
+    SurfaceHit hitAt(uint32_t mesh, uint32_t triangle, Vec2f barycentric) const;
     /// Bare Embree closest-hit queries (rtcIntersect1, no hit shading), writing the hit distance
     /// or infinity. Only for measuring the ray-tracing kernel against the integrators.
     void intersectRaw(const Ray* rays, size_t count, float* tHit) const;

@@ -1,13 +1,17 @@
 #include <mutex>
 
 #include "algorithm.h"
+#include "integrators/bdpt/bdpt_integrator.h"
 #include "integrators/pt/pt_integrator.h"
 
 namespace partita {
 
 void registerBuiltinAlgorithms() {
     static std::once_flag once;
-    std::call_once(once, [] { registerPathTracer(); });
+    std::call_once(once, [] {
+        registerPathTracer();
+        registerBdpt();
+    });
 }
 
 }  // namespace partita

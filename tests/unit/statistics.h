@@ -88,4 +88,15 @@ inline double statisticalTolerance(const MeanAndError& m, double exact, int comp
     return t * m.standardError + 1e-5 * std::abs(exact);
 }
 
+/// Tolerance for |mean(a) - mean(b)| of two independent estimators, each known only through its
+/// own seeds: Student-t on the larger standard error of the difference, with the smaller sample's
+/// degrees of freedom (a conservative Welch test), at the Sidak level for `comparisons`.
+inline double twoSampleTolerance(const MeanAndError& a, const MeanAndError& b, int comparisons = 1,
+                                 double familyAlpha = 1e-3) {
+    int dof = std::max(1, std::min(a.count, b.count) - 1);
+    double t = studentCritical(sidakPerComparison(familyAlpha, comparisons), dof);
+    double se = std::sqrt(a.standardError * a.standardError + b.standardError * b.standardError);
+    return t * se + 1e-5 * std::max(std::abs(a.mean), std::abs(b.mean));
+}
+
 }  // namespace partita::test

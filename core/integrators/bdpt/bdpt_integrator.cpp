@@ -1,0 +1,192 @@
+#include "integrators/bdpt/bdpt_integrator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+#include "camera.h"
+#include "film.h"
+#include "integrators/pt/pt_integrator.h"
+#include "integrators/sample_passes.h"
+#include "path/connection.h"
+#include "path/random_walk.h"
+#include "progress_reporter.h"
+#include "render_scene.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+namespace {
+
+/// A light-tracing contribution waiting to be added to the film.
+struct Splat {
+    Vec2f raster;
+    PathType type;
+    Rgb value;
+};
+
+/// One tile's splats of a pass, sample by sample: samples[i] .. samples[i+1] index those of the
+/// pass's i-th sample.
+struct TileSplats {
+    std::vector<Splat> splats;
+    std::vector<uint32_t> sampleStarts;
+};
+
+/// Adds `value` at raster position r with the tent filter of radius one pixel that pt's camera
+/// rays are drawn from: the up to four pixels whose tents cover r get (1-|dx|)(1-|dy|) of it.
+void splatTent(Film& film, Vec2f r, PathType type, Rgb value) {
+    float fx = r.x - 0.5f, fy = r.y - 0.5f;
+    int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+    float wx1 = fx - float(x0), wy1 = fy - float(y0);
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            int x = x0 + dx, y = y0 + dy;
+            if (x < 0 || y < 0 || x >= film.width() || y >= film.height()) continue;
+            float w = (dx ? wx1 : 1 - wx1) * (dy ? wy1 : 1 - wy1);
+            if (w > 0) film.addSample(x, y, type, value * w);
+        }
+}
+
+class BdptPasses : public SamplePassRenderer {
+  public:
+    BdptPasses(const RenderContext& ctx, const BdptSettings& settings)
+        : ctx_(ctx),
+          settings_(settings),
+          cameraFilm_(ctx.settings.width, ctx.settings.height),
+          splatFilm_(ctx.settings.width, ctx.settings.height),
+          tiles_(size_t(cameraFilm_.tilesX()) * cameraFilm_.tilesY()) {
+        // Scattering vertices <= maxDepth: a camera subpath may end on an emitter one vertex
+        // further (s = 0), a light subpath needs at most maxDepth surface vertices.
+        cameraWalk_.maxVertices = ctx.settings.maxDepth + 2;
+        lightWalk_.maxVertices = ctx.settings.maxDepth + 1;
+        cameraWalk_.rouletteStartDepth = lightWalk_.rouletteStartDepth =
+            settings.rouletteStartDepth;
+    }
+
+    void renderPass(SampleRange range, ProgressReporter& progress) override {
+        int tilesX = cameraFilm_.tilesX();
+        ctx_.pool.parallelFor(tiles_.size(), [&](size_t tile) {
+            ctx_.throwIfCancelled();
+            int x0 = int(tile % tilesX) * Film::kTileSize,
+                y0 = int(tile / tilesX) * Film::kTileSize;
+            int x1 = std::min(x0 + Film::kTileSize, cameraFilm_.width());
+            int y1 = std::min(y0 + Film::kTileSize, cameraFilm_.height());
+            renderTile(x0, y0, x1, y1, range, tiles_[tile]);
+            progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
+        });
+        addSplats(range);
+    }
+
+    LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override {
+        Film sum(cameraFilm_.width(), cameraFilm_.height());
+        sum.merge(cameraFilm_);
+        sum.merge(splatFilm_);
+        return sum.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+    }
+
+    void addStats(RenderStats& st, double seconds) const override {
+        st.values["rays"] = double(rays_.load());
+        st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
+        st.values["path_types"] = double(cameraFilm_.typeCount() + splatFilm_.typeCount());
+        st.values["dropped_samples"] =
+            double(cameraFilm_.droppedSamples() + splatFilm_.droppedSamples());
+    }
+
+    /// Splats are held for a whole pass: keep a pass to about 2^18 pixel samples.
+    uint64_t maxPassSamples() const override {
+        double pixels = double(cameraFilm_.width()) * cameraFilm_.height();
+        return uint64_t(std::max(1.0, std::min(1024.0, double(1 << 18) / pixels)));
+    }
+
+  private:
+    /// Per-thread scratch of one pixel sample.
+    struct Scratch {
+        std::vector<PathVertex> camera, light;
+        uint64_t rays = 0;
+    };
+
+    void renderTile(int x0, int y0, int x1, int y1, SampleRange range, TileSplats& out) {
+        out.splats.clear();
+        out.sampleStarts.assign(1, 0);
+        Scratch scratch;
+        Connector connector(ctx_.scene, ctx_.camera);
+        // Sample by sample over the tile's pixels, so that the splats come out in sample order.
+        for (uint64_t s = range.first; s < range.end; ++s) {
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    Film::Pixel pixel = cameraFilm_.pixel(x, y);
+                    renderSample(x, y, s, pixel, connector, scratch, out.splats);
+                }
+            out.sampleStarts.push_back(uint32_t(out.splats.size()));
+        }
+        rays_.fetch_add(scratch.rays, std::memory_order_relaxed);
+    }
+
+    void renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel, Connector& connector,
+                      Scratch& scratch, std::vector<Splat>& splats) {
+        Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, cameraFilm_.width(), sample);
+        Vec2f u{rng.nextFloat(), rng.nextFloat()};
+        Ray primary = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
+        traceCameraSubpath(ctx_.scene, ctx_.camera, primary, rng, cameraWalk_, scratch.camera,
+                           scratch.rays);
+        traceLightSubpath(ctx_.scene, rng, lightWalk_, scratch.light, scratch.rays);
+        int cameraCount = int(scratch.camera.size()), lightCount = int(scratch.light.size());
+        int maxDepth = ctx_.settings.maxDepth;
+        for (int t = 1; t <= cameraCount; ++t)
+            for (int s = 0; s <= std::max(lightCount, 1); ++s) {
+                if (s + t < 2 || s + t - 2 > maxDepth || !wanted(s, t)) continue;
+                // s = 1 with t > 1 samples its own light vertex; every other s needs the subpath.
+                if (s > lightCount && !(s == 1 && t > 1)) continue;
+                StrategySample c =
+                    connector.connect(scratch.camera, scratch.light, s, t, rng, scratch.rays,
+                                      settings_.weighted, settings_.heuristic);
+                if (!c.valid || c.weight <= 0) continue;
+                Rgb value = c.value * c.weight;
+                if (t == 1)
+                    splats.push_back({c.raster, c.type, value});
+                else
+                    pixel.add(c.type, value);
+            }
+    }
+
+    bool wanted(int s, int t) const {
+        return (settings_.onlyS < 0 || s == settings_.onlyS) &&
+               (settings_.onlyT < 0 || t == settings_.onlyT);
+    }
+
+    /// The pass's splats, sample by sample and within a sample tile by tile: the same order
+    /// whatever the threads did and however the budget was split into passes.
+    void addSplats(SampleRange range) {
+        for (uint64_t i = 0; i < range.count(); ++i)
+            for (const TileSplats& tile : tiles_)
+                for (uint32_t k = tile.sampleStarts[i]; k < tile.sampleStarts[i + 1]; ++k) {
+                    const Splat& sp = tile.splats[k];
+                    splatTent(splatFilm_, sp.raster, sp.type, sp.value);
+                }
+    }
+
+    const RenderContext& ctx_;
+    BdptSettings settings_;
+    WalkSettings cameraWalk_, lightWalk_;
+    Film cameraFilm_, splatFilm_;
+    std::vector<TileSplats> tiles_;
+    std::atomic<uint64_t> rays_{0};
+};
+
+}  // namespace
+
+RenderResult BdptAlgorithm::render(const RenderContext& ctx) {
+    BdptPasses passes(ctx, settings_);
+    return runSamplePasses(ctx, passes);
+}
+
+void registerBdpt() {
+    AlgorithmRegistry::instance().add(
+        {"bdpt",
+         "bidirectional path tracer: every (s, t) strategy including light tracing, MIS "
+         "(power heuristic); per-type layers",
+         BudgetKind::SamplesPerPixel, [] { return std::make_unique<BdptAlgorithm>(); }});
+}
+
+}  // namespace partita

@@ -1,0 +1,78 @@
+// Bidirectional connections: strategy (s, t) joins the first t vertices of a camera subpath with
+// the first s of a light subpath into one complete path (Veach 1997, ch. 10), and evaluates its
+// unweighted contribution f / p, its Heckbert type and its MIS weight.
+//
+//   s = 0       the camera subpath itself hits an area light;
+//   s = 1       next-event estimation: a fresh point on a light, chosen by power;
+//   t = 1       light tracing: the light subpath's vertex seen by the camera, splatted at its
+//               raster position;
+//   otherwise   an edge between camera vertex t-1 and light vertex s-1.
+// The strategy's full path has the camera-first densities of mis.h: the subpaths' stored ones,
+// with the four around the new edge recomputed for the directions the connection created.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "math/vec.h"
+#include "path/mis.h"
+#include "path/path_vertex.h"
+#include "path_type.h"
+#include "rng.h"
+
+namespace partita {
+
+class Camera;
+class RenderScene;
+
+struct StrategySample {
+    bool valid = false;  // false: the strategy produced nothing (blocked, black, impossible)
+    Rgb value{0.0f};     // unweighted contribution f / p
+    float weight = 0;    // MIS weight
+    PathType type;
+    Vec2f raster;  // t == 1: the raster position the contribution belongs to
+};
+
+class Connector {
+  public:
+    Connector(const RenderScene& scene, const Camera& camera) : scene_(scene), camera_(camera) {}
+
+    /// Strategy (s, t) of the subpaths (which must hold at least t and s vertices). For s == 1
+    /// a light vertex is sampled with `rng`. `rays` counts the shadow rays. The weight is
+    /// computed with `heuristic`, or is 1 when `weighted` is false (one strategy alone).
+    StrategySample connect(std::span<const PathVertex> camera, std::span<const PathVertex> light,
+                           int s, int t, Rng& rng, uint64_t& rays, bool weighted = true,
+                           MisHeuristic heuristic = MisHeuristic::Power);
+
+    /// The complete path of the last connect() call, camera first (x0 .. xM); for tests and the
+    /// MCMC methods. Valid only when that call returned a valid sample.
+    const std::vector<PathVertex>& lastPath() const { return path_; }
+    /// Its densities as connect() computed them for the MIS weight.
+    const std::vector<VertexDensities>& lastDensities() const { return densities_; }
+    MisPathInfo lastPathInfo() const { return info_; }
+
+  private:
+    bool visible(const PathVertex& a, const PathVertex& b, uint64_t& rays) const;
+    StrategySample emitterHit(std::span<const PathVertex> camera, int t);
+    StrategySample nextEvent(std::span<const PathVertex> camera, int t, Rng& rng, uint64_t& rays);
+    StrategySample lightTracing(std::span<const PathVertex> light, int s, uint64_t& rays);
+    StrategySample edge(std::span<const PathVertex> camera, std::span<const PathVertex> light,
+                        int s, int t, uint64_t& rays);
+    /// path_ and densities_ from the first t camera and s light vertices; `light` last.
+    void assemble(std::span<const PathVertex> camera, int t, std::span<const PathVertex> light,
+                  int s);
+    Rgb emittedTowards(const PathVertex& lightVertex, Vec3f towards) const;
+
+    const RenderScene& scene_;
+    const Camera& camera_;
+    std::vector<PathVertex> path_;
+    std::vector<VertexDensities> densities_;
+    MisPathInfo info_;
+};
+
+/// The type of the path made of camera vertices x1 .. x_{t-1} then light vertices
+/// l_{s-1} .. l1 (the light vertex itself and the camera are not scattering vertices).
+PathType connectedType(std::span<const PathVertex> camera, int t, std::span<const PathVertex> light,
+                       int s);
+
+}  // namespace partita

@@ -1,0 +1,168 @@
+#include "path/random_walk.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bsdfs/bound_bsdf.h"
+#include "camera.h"
+#include "light_emission.h"
+#include "render_scene.h"
+
+namespace partita {
+
+namespace {
+
+/// Extends `path` (whose last vertex emitted `ray`) by surface hits until it is absorbed,
+/// escapes, fails Russian roulette or reaches the vertex limit.
+class Walk {
+  public:
+    Walk(const RenderScene& scene, Rng& rng, const WalkSettings& settings, TransportMode mode,
+         std::vector<PathVertex>& path, uint64_t& rays)
+        : scene_(scene), rng_(rng), settings_(settings), mode_(mode), path_(path), rays_(rays) {}
+
+    /// `pdf` is the density of the ray's direction in solid angle at the emitting vertex, or,
+    /// when `parallel` (an orthographic camera, a directional light), the density of its origin
+    /// on a plane perpendicular to it.
+    void run(Ray ray, Rgb beta, float pdf, bool parallel) {
+        float startLevel = std::max(maxComponent(beta), 1e-30f);
+        float etaScale = 1;
+        while (int(path_.size()) < settings_.maxVertices) {
+            SurfaceHit hit;
+            ++rays_;
+            if (!scene_.intersect(ray, hit)) return;
+            Vec3f wo = -ray.d;
+            PathVertex v = surfaceVertex(hit, wo);
+            float cosG = absDot(hit.ng, wo);
+            float density = parallel ? pdf * cosG : solidAngleToArea(pdf, path_.back(), v);
+            forwardPdf(v) = density;
+            if (mode_ == TransportMode::Importance) {
+                if (!(cosG > 0)) return;
+                beta *= absDot(hit.ns, wo) / cosG;
+            }
+            v.beta = beta;
+            path_.push_back(v);
+            if (int(path_.size()) >= settings_.maxVertices) return;
+            const PathVertex& here = path_.back();
+            BoundBsdf bound(here.bsdf, wo);
+            float uc = rng_.nextFloat();
+            Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
+            BsdfSample bs;
+            if (!bound.sample(uc, u, bs, mode_)) return;
+            float cosOut = absDot(bs.wi, mode_ == TransportMode::Radiance ? hit.ns : hit.ng);
+            beta *= bs.f * (cosOut / bs.pdf);
+            if (isBlack(beta) || !isFinite(beta)) return;
+            // The density of the previous vertex when sampled from here (the reverse walk).
+            PathVertex& previous = path_[path_.size() - 2];
+            reversePdf(previous) =
+                bs.isDelta ? 0
+                           : solidAngleToArea(BoundBsdf(here.bsdf, bs.wi).pdf(wo), here, previous);
+            if (bs.isTransmission && mode_ == TransportMode::Radiance) etaScale *= sqr(bs.eta);
+            int scattering = int(path_.size()) - 1;
+            if (!survivesRoulette(scattering, beta, etaScale, startLevel)) return;
+            ray = spawnRay(hit.p, hit.ng, bs.wi);
+            pdf = bs.isDelta ? 0 : bs.pdf;
+            parallel = false;
+        }
+    }
+
+  private:
+    PathVertex surfaceVertex(const SurfaceHit& hit, Vec3f wo) const {
+        PathVertex v;
+        v.kind = VertexKind::Surface;
+        v.p = hit.p;
+        v.ng = hit.ng;
+        v.hit = hit;
+        v.light = scene_.areaLightIndex(hit);
+        v.bsdf = scene_.bsdfAt(hit);
+        v.delta = BoundBsdf(v.bsdf, wo).isDelta();
+        return v;
+    }
+
+    /// The density in the walk's own direction, and the other one.
+    float& forwardPdf(PathVertex& v) const {
+        return mode_ == TransportMode::Radiance ? v.pdfFromEye : v.pdfFromLight;
+    }
+    float& reversePdf(PathVertex& v) const {
+        return mode_ == TransportMode::Radiance ? v.pdfFromLight : v.pdfFromEye;
+    }
+
+    /// pt's rule: from the given number of scattering vertices on, survive with probability
+    /// min(1, throughput) (relative to the start for light walks), at least 0.05.
+    bool survivesRoulette(int scattering, Rgb& beta, float etaScale, float startLevel) {
+        if (scattering < settings_.rouletteStartDepth) return true;
+        float survival = std::min(1.0f, maxComponent(beta) * etaScale / startLevel);
+        if (survival >= 1) return true;
+        survival = std::max(survival, 0.05f);
+        if (rng_.nextFloat() >= survival) return false;
+        beta /= survival;
+        return true;
+    }
+
+    const RenderScene& scene_;
+    Rng& rng_;
+    const WalkSettings& settings_;
+    TransportMode mode_;
+    std::vector<PathVertex>& path_;
+    uint64_t& rays_;
+};
+
+}  // namespace
+
+void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ray& primary,
+                        Rng& rng, const WalkSettings& settings, std::vector<PathVertex>& out,
+                        uint64_t& rays) {
+    out.clear();
+    PathVertex c;
+    c.kind = VertexKind::Camera;
+    c.p = primary.o;
+    c.beta = Rgb(1.0f);  // We cos / pdf = 1 for the camera's own rays
+    c.pdfFromEye = 1;    // the pinhole's position is a delta
+    out.push_back(c);
+    // Densities normalised over the whole image: see Camera::directionPdf.
+    float pdf = camera.directionPdf(primary.d);
+    Walk(scene, rng, settings, TransportMode::Radiance, out, rays)
+        .run(primary, Rgb(1.0f), pdf, camera.isOrthographic());
+}
+
+PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n,
+                       const SurfaceHit& hit) {
+    PathVertex v;
+    v.kind = VertexKind::Light;
+    v.p = p;
+    v.ng = n;
+    v.hit = hit;
+    v.light = light;
+    // A directional light's direction is a delta: nothing can connect to it from a pinhole.
+    v.delta = std::holds_alternative<DirectionalLight>(scene.lights()[size_t(light)]);
+    v.pdfFromLight = lightVertexDensity(scene, light);
+    v.beta = Rgb(v.pdfFromLight > 0 ? 1 / v.pdfFromLight : 0.0f);
+    return v;
+}
+
+void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
+                       std::vector<PathVertex>& out, uint64_t& rays) {
+    out.clear();
+    if (!scene.hasLights() || settings.maxVertices < 1) return;
+    float uLight = rng.nextFloat();
+    Vec2f uPos{rng.nextFloat(), rng.nextFloat()};
+    Vec2f uDir{rng.nextFloat(), rng.nextFloat()};
+    int light = int(scene.lightSelection().sample(uLight));
+    EmittedRay e;
+    if (!sampleLe(scene, light, uPos, uDir, e)) return;
+    PathVertex l = lightVertex(scene, light, e.origin, e.normal, e.hit);
+    if (!(l.pdfFromLight > 0)) return;
+    out.push_back(l);
+    bool directional = std::holds_alternative<DirectionalLight>(scene.lights()[size_t(light)]);
+    // Le |cos at the light| / (density of the origin and of the direction). A directional light
+    // has no cosine and a delta direction: its irradiance over the density of the ray's origin
+    // on its disk, which is also the (projected) density the next vertex gets.
+    float cosLight = isBlack(e.normal) ? 1.0f : absDot(e.normal, e.direction);
+    Rgb beta = directional ? e.le / (l.pdfFromLight * e.pdfPos)
+                           : e.le * (cosLight / (l.pdfFromLight * e.pdfDir));
+    Ray ray = isBlack(e.normal) ? Ray{e.origin, e.direction, kInf}
+                                : spawnRay(e.origin, e.normal, e.direction);
+    Walk(scene, rng, settings, TransportMode::Importance, out, rays)
+        .run(ray, beta, directional ? e.pdfPos : e.pdfDir, directional);
+}
+
+}  // namespace partita

@@ -1,0 +1,46 @@
+// Camera and light subpaths (Veach 1997, ch. 10): random walks that record every vertex with its
+// throughput and its densities in area measure (path_vertex.h), for BDPT's connections and the
+// MCMC methods' bidirectional mutation.
+//
+// Shading normals make light transport non-reciprocal. Paths are measured as the path tracer
+// measures them (radiance transport): each edge x_i -- x_{i+1} carries
+// |cos_s(x_i)| |cos_g(x_{i+1})| / d^2, the shading cosine at its camera end and the geometric
+// one at its light end. A camera walk's weight is then pt's f |cos_s| / pdf per vertex; a light
+// walk samples BSDFs in importance mode and weighs with the geometric cosine of the sampled
+// direction and |cos_s| / |cos_g| of the arriving one (Veach's adjoint with shading normals), so
+// both kinds of subpath estimate the same measurement.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "path/path_vertex.h"
+#include "ray.h"
+#include "rng.h"
+
+namespace partita {
+
+class Camera;
+class RenderScene;
+
+struct WalkSettings {
+    int maxVertices = 18;        // of the subpath, its camera or light vertex included
+    int rouletteStartDepth = 3;  // Russian roulette from this many scattering vertices on (pt's)
+};
+
+/// The camera subpath whose first ray is `primary` (from Camera::generateRay): out[0] is the
+/// camera, then one vertex per surface hit. `rays` counts the closest-hit queries.
+void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ray& primary,
+                        Rng& rng, const WalkSettings& settings, std::vector<PathVertex>& out,
+                        uint64_t& rays);
+
+/// A light subpath: a light chosen by power, an emitted ray (sampleLe), then surface hits.
+/// Empty when the scene has no light or the light sends nothing.
+void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
+                       std::vector<PathVertex>& out, uint64_t& rays);
+
+/// The light vertex for light `light` at a sampled emitted ray's origin (its densities set).
+PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n,
+                       const SurfaceHit& hit);
+
+}  // namespace partita
