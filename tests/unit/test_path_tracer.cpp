@@ -18,17 +18,6 @@ namespace {
 using test::meanAndError;
 using test::renderWith;
 
-/// A closed box whose walls all emit Le and reflect diffusely with albedo rho. Every path sees
-/// radiance Le (1 + rho + rho^2 + ...) = Le / (1 - rho); the paths with k diffuse vertices
-/// (type L D^k E) carry exactly Le rho^k.
-SceneData furnaceScene(float rho, float le) {
-    SceneData s;
-    s.materials = {test::lambertMaterial(Rgb(rho), Rgb(le), true)};
-    s.meshes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, 0, true));
-    s.cameras.push_back(test::lookAtCamera({0, 0, 0.5f}, {0, 0, -1}, 1.2f));
-    return s;
-}
-
 RenderSettings smallSettings(int spp, uint64_t seed, int maxDepth = 64) {
     RenderSettings s;
     s.width = 24;
@@ -40,111 +29,8 @@ RenderSettings smallSettings(int spp, uint64_t seed, int maxDepth = 64) {
     return s;
 }
 
-TEST(PathTracer, WhiteFurnaceMatchesClosedForm) {
-    const float rho = 0.5f, le = 1.0f;
-    RenderScene scene(furnaceScene(rho, le));
-    std::vector<double> means;
-    std::vector<std::vector<double>> perType(4);
-    for (uint64_t seed = 1; seed <= 8; ++seed) {
-        RenderResult r = renderWith(scene, "pt", smallSettings(4, seed));
-        means.push_back(luminance(r.image.combined.mean()));
-        for (int k = 0; k < 4; ++k) {
-            std::string name = "L" + std::string(size_t(k), 'D') + "E";
-            const Image* layer = r.image.layer(name);
-            ASSERT_NE(layer, nullptr) << name;
-            perType[size_t(k)].push_back(luminance(layer->mean()));
-        }
-    }
-    auto total = meanAndError(means);
-    double expected = le / (1 - rho);
-    EXPECT_GT(total.standardError, 0);
-    EXPECT_NEAR(total.mean, expected, test::statisticalTolerance(total, expected, 5));
-    for (int k = 0; k < 4; ++k) {
-        auto m = meanAndError(perType[size_t(k)]);
-        double want = le * std::pow(rho, k);
-        EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, 5))
-            << "type with " << k << " D vertices";
-    }
-}
-
-TEST(PathTracer, MaxDepthTruncatesTheNeumannSeries) {
-    const float rho = 0.5f, le = 1.0f;
-    RenderScene scene(furnaceScene(rho, le));
-    std::vector<double> means;
-    for (uint64_t seed = 11; seed <= 18; ++seed)
-        means.push_back(
-            luminance(renderWith(scene, "pt", smallSettings(4, seed, 2)).image.combined.mean()));
-    auto m = meanAndError(means);
-    double expected = le * (1 + rho + rho * rho);  // at most two scattering vertices
-    EXPECT_NEAR(m.mean, expected, test::statisticalTolerance(m, expected));
-}
-
-/// A Lambertian floor (albedo rho) under a point light of intensity I at height h, seen by an
-/// orthographic camera looking straight down: L(x, z) = rho / pi * I * h / d^3. The expected
-/// pixel value is L averaged over the pixel's tent filter, computed here by Gauss-Legendre
-/// quadrature, an estimator independent of the renderer.
-TEST(PathTracer, PointLightOverLambertPlaneMatchesQuadrature) {
-    const float rho = 0.8f, intensity = 5.0f, h = 1.0f, halfExtent = 1.0f;
-    const int res = 12;
-    SceneData s;
-    s.materials = {test::lambertMaterial(Rgb(rho))};
-    s.meshes.push_back(test::quad({-10, 0, -10}, {0, 0, 20}, {20, 0, 0}, 0));  // normal +y
-    PunctualLightDesc light;
-    light.type = PunctualLightDesc::Type::Point;
-    light.intensity = intensity;
-    light.position = {0.3f, h, -0.2f};
-    s.lights.push_back(light);
-    CameraDesc cam = test::lookAtCamera({0, 5, 0}, {0, 0, 0}, 1.0f);
-    cam.type = CameraDesc::Type::Orthographic;
-    cam.ymag = halfExtent;
-    s.cameras.push_back(cam);
-    RenderScene scene(std::move(s));
-
-    auto radiance = [&](double x, double z) {
-        double dx = x - 0.3, dz = z + 0.2;
-        double d2 = dx * dx + dz * dz + h * h;
-        return rho / M_PI * intensity * h / (d2 * std::sqrt(d2));
-    };
-    Camera camera(cam, res, res);
-    // 8-point Gauss-Legendre on each half [-1,0], [0,1] of the tent.
-    const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                          -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                          0.7966664774136267,  0.9602898564975363};
-    const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                          0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                          0.2223810344533745, 0.1012285362903763};
-    auto expectedPixel = [&](int px, int py) {
-        double sum = 0;
-        for (int hx = 0; hx < 2; ++hx)
-            for (int i = 0; i < 8; ++i)
-                for (int hy = 0; hy < 2; ++hy)
-                    for (int j = 0; j < 8; ++j) {
-                        double u = (gx[i] + 1) / 2 - hx, v = (gx[j] + 1) / 2 - hy;  // in [-1, 1]
-                        double w = gw[i] / 2 * gw[j] / 2 * (1 - std::abs(u)) * (1 - std::abs(v));
-                        Ray ray = camera.generateRay({float(px + 0.5 + u), float(py + 0.5 + v)});
-                        sum += w * radiance(ray.o.x, ray.o.z);
-                    }
-        return sum;
-    };
-    const int seeds = 8;
-    std::vector<std::vector<double>> perPixel(size_t(res * res));
-    for (int seed = 0; seed < seeds; ++seed) {
-        RenderSettings st = smallSettings(8, 100 + seed, 1);
-        st.width = st.height = res;
-        RenderResult r = renderWith(scene, "pt", st);
-        for (int y = 0; y < res; ++y)
-            for (int x = 0; x < res; ++x)
-                perPixel[size_t(y * res + x)].push_back(r.image.combined.at(x, y).y);
-    }
-    for (int y = 0; y < res; ++y)
-        for (int x = 0; x < res; ++x) {
-            auto m = meanAndError(perPixel[size_t(y * res + x)]);
-            double want = expectedPixel(x, y);
-            EXPECT_GT(m.standardError, 0);
-            EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, res * res))
-                << "pixel " << x << "," << y;
-        }
-}
+// The closed-form checks (furnace, maximum depth, point light over a plane) run for every
+// registered algorithm: test_every_algorithm.cpp.
 
 TEST(PathTracer, TypeLayersSumToCombined) {
     RenderScene scene(test::specularBoxScene());
