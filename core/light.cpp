@@ -26,11 +26,18 @@ float lightPower(const Light& light) {
         float operator()(const DirectionalLight& l) const {
             return kPi * l.sceneRadius * l.sceneRadius * luminance(l.irradiance);
         }
+        // As a disk of the scene's radius radiating the map's mean radiance.
+        float operator()(const EnvironmentLight& l) const {
+            return kPi * kPi * l.sceneRadius * l.sceneRadius * l.map->meanLuminance();
+        }
     };
     return std::visit(Visitor{}, light);
 }
 
-bool isDeltaLight(const Light& light) { return !std::holds_alternative<AreaLight>(light); }
+bool isDeltaLight(const Light& light) {
+    return !std::holds_alternative<AreaLight>(light) &&
+           !std::holds_alternative<EnvironmentLight>(light);
+}
 
 float areaLightPdf(const AreaLight& l, Vec3f ref, Vec3f p) {
     // The density sampleAreaLight gives, computed the same way.

@@ -1,5 +1,5 @@
 // Light sources: emissive triangles (area lights, from emissive glTF materials) and
-// KHR_lights_punctual point, spot and directional lights.
+// KHR_lights_punctual point, spot and directional lights, and the environment.
 //
 // sampleLi() picks a point on the light as seen from a reference point and returns the
 // incident radiance with its density in solid angle at the reference point; for delta lights
@@ -9,9 +9,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <variant>
 
+#include "environment_map.h"
 #include "math/vec.h"
 #include "sampling.h"
 
@@ -61,7 +63,15 @@ struct DirectionalLight {
     float sceneRadius = 1;
 };
 
-using Light = std::variant<AreaLight, PointLight, SpotLight, DirectionalLight>;
+/// The environment (environment_map.h) as a light: directions come from the map; for light
+/// subpaths its rays start on a disk of the scene's radius outside the bounding sphere.
+struct EnvironmentLight {
+    std::shared_ptr<const EnvironmentMap> map;
+    Vec3f sceneCenter;
+    float sceneRadius = 1;
+};
+
+using Light = std::variant<AreaLight, PointLight, SpotLight, DirectionalLight, EnvironmentLight>;
 
 /// Power of a light (luminance-weighted), used to choose lights in proportion to their power.
 float lightPower(const Light& light);

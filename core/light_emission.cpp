@@ -62,6 +62,20 @@ bool sampleLe(const RenderScene& scene, int light, Vec2f uPos, Vec2f uDir, Emitt
         out.pdfDir = uniformConePdf(spot->cosOuter);
         return !isBlack(out.le);
     }
+    if (const auto* env = std::get_if<EnvironmentLight>(&l)) {
+        // A direction from the map; the ray comes from a disk perpendicular to it, beyond the
+        // scene's bounding sphere, towards the scene.
+        Vec3f towardsSky;
+        if (!env->map->sample(uDir, towardsSky, out.pdfDir)) return false;
+        Frame frame = Frame::fromNormal(towardsSky);
+        Vec2f d = sampleConcentricDisk(uPos) * env->sceneRadius;
+        out.origin =
+            env->sceneCenter + towardsSky * (2 * env->sceneRadius) + frame.s * d.x + frame.t * d.y;
+        out.direction = -towardsSky;
+        out.le = env->map->radiance(towardsSky);
+        out.pdfPos = 1 / (kPi * env->sceneRadius * env->sceneRadius);
+        return !isBlack(out.le);
+    }
     const auto& dir = std::get<DirectionalLight>(l);
     // A disk of the scene's radius, perpendicular to the light, outside the bounding sphere.
     Frame frame = Frame::fromNormal(dir.direction);
@@ -87,11 +101,25 @@ float emittedDirectionPdf(const Light& light, Vec3f n, Vec3f w) {
     return 0;  // directional: a delta direction
 }
 
-float lightVertexDensity(const RenderScene& scene, int light) {
+float lightVertexDensity(const RenderScene& scene, int light, Vec3f towardsLight) {
     float pmf = scene.lightSelectionPmf(light);
-    if (const auto* area = std::get_if<AreaLight>(&scene.lights()[size_t(light)]))
-        return pmf / area->area;
+    const Light& l = scene.lights()[size_t(light)];
+    if (const auto* area = std::get_if<AreaLight>(&l)) return pmf / area->area;
+    if (const auto* env = std::get_if<EnvironmentLight>(&l))
+        return pmf * env->map->pdf(towardsLight);
     return pmf;
+}
+
+bool isInfiniteLight(const Light& light) {
+    return std::holds_alternative<DirectionalLight>(light) ||
+           std::holds_alternative<EnvironmentLight>(light);
+}
+
+bool cameraCanConnectTo(const Light& light) { return !isInfiniteLight(light); }
+
+bool isHittableLight(const Light& light) {
+    return std::holds_alternative<AreaLight>(light) ||
+           std::holds_alternative<EnvironmentLight>(light);
 }
 
 float densityTowards(const Light& light, Vec3f from, Vec3f n, Vec3f to, Vec3f ngTo) {
@@ -100,6 +128,11 @@ float densityTowards(const Light& light, Vec3f from, Vec3f n, Vec3f to, Vec3f ng
         // (`from` lies on the line through `to` along the light by construction.)
         float cosTo = isBlack(ngTo) ? 1.0f : absDot(ngTo, dir->direction);
         return cosTo / directionalDiskArea(*dir);
+    }
+    if (const auto* env = std::get_if<EnvironmentLight>(&light)) {
+        // Likewise for the environment, along the direction from its far point.
+        float cosTo = isBlack(ngTo) ? 1.0f : absDot(ngTo, normalize(to - from));
+        return cosTo / (kPi * env->sceneRadius * env->sceneRadius);
     }
     Vec3f d = to - from;
     float dist2 = lengthSquared(d);

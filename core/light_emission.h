@@ -40,7 +40,17 @@ bool sampleLe(const RenderScene& scene, int light, Vec2f uPos, Vec2f uDir, Emitt
 float emittedDirectionPdf(const Light& light, Vec3f n, Vec3f w);
 
 /// Position density of the light vertex times the light's selection probability (see above).
-float lightVertexDensity(const RenderScene& scene, int light);
+/// For the environment, whose vertex is a direction, the solid-angle density of `towardsLight`
+/// (the unit direction from the scene towards it) instead.
+float lightVertexDensity(const RenderScene& scene, int light, Vec3f towardsLight = {});
+
+/// Lights infinitely far away (directional, environment): rays from them start on a disk.
+bool isInfiniteLight(const Light& light);
+/// Whether a pinhole camera can connect to a vertex on the light (not for a delta direction nor
+/// the environment, which the camera sees by its own rays).
+bool cameraCanConnectTo(const Light& light);
+/// Whether camera paths can hit the light (area lights and the environment).
+bool isHittableLight(const Light& light);
 
 /// Area density at point `to` (geometric normal ngTo, or zero for a point with no surface) of
 /// the light subpath's first vertex, given the light vertex at `from` with normal `n`.

@@ -182,6 +182,10 @@ void RenderScene::buildLights() {
                 break;
         }
     }
+    if (data_.environment && !data_.environment->isBlack()) {
+        environmentLight_ = int(lights_.size());
+        lights_.push_back(EnvironmentLight{data_.environment, bounds_.center(), radius});
+    }
     std::vector<float> power;
     power.reserve(lights_.size());
     for (const Light& l : lights_) power.push_back(lightPower(l));
@@ -328,6 +332,8 @@ Rgb RenderScene::emittedRadiance(const SurfaceHit& hit, Vec3f w) const {
 
 bool RenderScene::sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& s) const {
     const Light& light = lights_[size_t(lightIndex)];
+    if (const auto* env = std::get_if<EnvironmentLight>(&light))
+        return sampleEnvironment(*env, ref, u, s);
     const auto* area = std::get_if<AreaLight>(&light);
     if (!area) {
         auto punctual = samplePunctualLight(light, ref);
@@ -344,6 +350,29 @@ bool RenderScene::sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample
         s.radiance = area->emission;
     }
     return !isBlack(s.radiance);
+}
+
+bool RenderScene::sampleEnvironment(const EnvironmentLight& env, Vec3f ref, Vec2f u,
+                                    LightSample& s) const {
+    if (!env.map->sample(u, s.wi, s.pdf)) return false;
+    s.radiance = env.map->radiance(s.wi);
+    // A point beyond the scene's bounding sphere, as for a directional light.
+    s.distance = kInf;
+    s.point = ref + s.wi * (2 * env.sceneRadius + length(ref - env.sceneCenter));
+    s.normal = -s.wi;
+    s.isDelta = false;
+    return !isBlack(s.radiance);
+}
+
+Rgb RenderScene::environmentRadiance(Vec3f d) const {
+    if (environmentLight_ < 0) return Rgb(0.0f);
+    return std::get<EnvironmentLight>(lights_[size_t(environmentLight_)]).map->radiance(d);
+}
+
+float RenderScene::environmentPdf(Vec3f d) const {
+    if (environmentLight_ < 0) return 0;
+    return lightSelectionPmf(environmentLight_) *
+           std::get<EnvironmentLight>(lights_[size_t(environmentLight_)]).map->pdf(d);
 }
 
 std::optional<LightSample> RenderScene::sampleLight(int lightIndex, Vec3f ref, Vec2f u) const {

@@ -90,6 +90,14 @@ class RenderScene {
         out.radiance = area->emission;  // not black: only emissive materials make area lights
         return true;
     }
+    /// The environment light's index in lights(), or -1 when the scene has none.
+    int environmentLightIndex() const { return environmentLight_; }
+    bool hasEnvironment() const { return environmentLight_ >= 0; }
+    /// Radiance arriving from direction d (towards the sky) from the environment; zero without.
+    Rgb environmentRadiance(Vec3f d) const;
+    /// Solid-angle density of next-event estimation choosing the environment and direction d
+    /// (light selection included).
+    float environmentPdf(Vec3f d) const;
     /// Solid-angle density at ref of sampleLight producing the area light point `hit`
     /// (light selection not included).
     float areaLightPdf(int lightIndex, Vec3f ref, const SurfaceHit& hit) const;
@@ -116,6 +124,7 @@ class RenderScene {
     Bsdf texturedBsdfAt(const SurfaceHit& hit) const;
     /// sampleLight for every kind of light (textured emission, punctual lights).
     bool sampleAnyLight(int lightIndex, Vec3f ref, Vec2f u, LightSample& out) const;
+    bool sampleEnvironment(const EnvironmentLight& env, Vec3f ref, Vec2f u, LightSample& out) const;
     void prepareMeshes();
     void buildAccel();
     void buildLights();
@@ -132,6 +141,7 @@ class RenderScene {
     std::vector<TriangleInfo> triangles_;  // all meshes' triangles, mesh by mesh
     std::vector<Light> lights_;
     AliasTable lightSelection_;
+    int environmentLight_ = -1;
     struct Embree;
     std::unique_ptr<Embree> embree_;
 };

@@ -1,5 +1,6 @@
 #include "render_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -34,6 +35,15 @@ std::string validateSettings(const RenderSettings& s, const RenderLimits& limits
         err << "max type layers " << s.maxTypeLayers << " is outside 0..1024";
     else if (!std::isfinite(s.previewIntervalSeconds) || s.previewIntervalSeconds < 0)
         err << "preview interval must be >= 0 seconds";
+    else if (!s.environment.file.empty() && s.environment.hasColor)
+        err << "give an environment file or an environment colour, not both";
+    else if (!std::isfinite(s.environment.rotationDegrees) ||
+             std::abs(s.environment.rotationDegrees) > 360000)
+        err << "environment rotation must be a finite number of degrees";
+    else if (s.environment.hasColor &&
+             std::any_of(s.environment.color.begin(), s.environment.color.end(),
+                         [](float c) { return !std::isfinite(c) || c < 0 || c > 1e6f; }))
+        err << "environment colour components must be in [0, 1e6]";
     return err.str();
 }
 

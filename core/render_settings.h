@@ -2,12 +2,23 @@
 // end, the service and the evaluation harness.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 
 namespace partita {
 
 enum class BudgetKind { SamplesPerPixel, MutationsPerPixel, Seconds };
+
+/// The environment a job lights its scene with (glTF has none): an equirectangular EXR/HDR
+/// file, or one colour, turned about +Y (environment_map.h). Neither: no environment.
+struct EnvironmentSettings {
+    std::string file;
+    bool hasColor = false;
+    std::array<float, 3> color{0, 0, 0};
+    float rotationDegrees = 0;
+    bool enabled() const { return !file.empty() || hasColor; }
+};
 
 struct RenderSettings {
     int width = 320, height = 240;
@@ -24,6 +35,8 @@ struct RenderSettings {
     int guideCandidates = 128;   // |Y'|
     float guideRadius = 10;      // R, pixels
     float guideEpsilon = 0.01f;  // epsilon of Eq. 17
+
+    EnvironmentSettings environment;
 
     int maxTypeLayers = 32;  // film layers kept before the rest merge into "other"
     double previewIntervalSeconds = 1.0;

@@ -1,11 +1,15 @@
 #include "renderer.h"
 
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
 #include "camera.h"
 #include "gltf/camera_select.h"
 #include "render_scene.h"
+#include "scene_environment.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -35,7 +39,11 @@ RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
                   settings.height);
     auto instance = entry->factory();
     RenderContext ctx{scene, camera, settings, pool, cancel, observer};
-    return instance->render(ctx);
+    std::string dark = darkSceneWarning(scene);
+    if (!dark.empty()) spdlog::warn("{}", dark);
+    RenderResult result = instance->render(ctx);
+    if (!dark.empty()) result.stats.labels["warning"] = dark;
+    return result;
 }
 
 std::map<std::string, std::string> describeRender(const std::string& algorithm,
@@ -61,6 +69,13 @@ std::map<std::string, std::string> describeRender(const std::string& algorithm,
     m["partita:y"] = str(s.guideCandidates);
     m["partita:radius"] = str(s.guideRadius);
     m["partita:epsilon"] = str(s.guideEpsilon);
+    const EnvironmentSettings& env = s.environment;
+    if (env.enabled()) {
+        m["partita:environment"] =
+            env.hasColor ? str(env.color[0]) + "," + str(env.color[1]) + "," + str(env.color[2])
+                         : std::filesystem::path(env.file).filename().string();
+        m["partita:environment_rotation"] = str(env.rotationDegrees);
+    }
     for (const auto& [k, v] : stats.values) m["partita:stat:" + k] = str(v);
     for (const auto& [k, v] : stats.labels) m["partita:stat:" + k] = v;
     return m;

@@ -5,9 +5,11 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "environment_map.h"
 #include "material.h"
 #include "math/transform.h"
 #include "math/vec.h"
@@ -70,6 +72,8 @@ struct SceneData {
     std::vector<Texture> textures;
     std::vector<CameraDesc> cameras;
     std::vector<PunctualLightDesc> lights;
+    /// Radiance from infinitely far away (not part of glTF: set by the job), or null.
+    std::shared_ptr<const EnvironmentMap> environment;
     std::vector<std::string> warnings;  // things skipped or approximated while loading
 
     Bounds3f bounds() const;

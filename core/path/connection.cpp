@@ -14,8 +14,9 @@ namespace {
 
 Vec3f directionTo(const PathVertex& from, const PathVertex& to) { return normalize(to.p - from.p); }
 
-bool isAreaLight(const RenderScene& scene, int light) {
-    return light >= 0 && std::holds_alternative<AreaLight>(scene.lights()[size_t(light)]);
+/// Lights a camera path can hit (the s = 0 strategy exists): area lights and the environment.
+bool isHittable(const RenderScene& scene, int light) {
+    return light >= 0 && isHittableLight(scene.lights()[size_t(light)]);
 }
 
 /// A point on light `light`, chosen as next-event estimation from `ref` chooses it (uniform by
@@ -27,15 +28,24 @@ PathVertex sampleLightVertex(const RenderScene& scene, int light, Vec3f ref, Vec
         // path rebuilds it bit for bit).
         Vec2f b = sampleUniformTriangle(u);
         SurfaceHit hit = scene.hitAt(area->mesh, area->triangle, {b.y, 1 - b.x - b.y});
-        return lightVertex(scene, light, hit.p, hit.ng, hit);
+        return lightVertex(scene, light, hit.p, hit.ng, hit, Vec3f(0.0f));
     }
     if (const auto* point = std::get_if<PointLight>(&l))
-        return lightVertex(scene, light, point->position, Vec3f(0.0f), {});
+        return lightVertex(scene, light, point->position, Vec3f(0.0f), {}, Vec3f(0.0f));
     if (const auto* spot = std::get_if<SpotLight>(&l))
-        return lightVertex(scene, light, spot->position, Vec3f(0.0f), {});
+        return lightVertex(scene, light, spot->position, Vec3f(0.0f), {}, Vec3f(0.0f));
+    if (const auto* env = std::get_if<EnvironmentLight>(&l)) {
+        // A direction by the map's importance, as pt's next-event estimation draws it.
+        Vec3f d;
+        float pdf;
+        PathVertex none;
+        if (!env->map->sample(u, d, pdf)) return none;  // density 0: no vertex
+        Vec3f far = ref + d * (2 * env->sceneRadius + length(ref - env->sceneCenter));
+        return lightVertex(scene, light, far, Vec3f(0.0f), {}, d);
+    }
     const auto& dir = std::get<DirectionalLight>(l);
     Vec3f far = ref - dir.direction * (2 * dir.sceneRadius + length(ref - dir.sceneCenter));
-    return lightVertex(scene, light, far, Vec3f(0.0f), {});
+    return lightVertex(scene, light, far, Vec3f(0.0f), {}, -dir.direction);
 }
 
 }  // namespace
@@ -59,6 +69,8 @@ Rgb Connector::emittedTowards(const PathVertex& v, Vec3f towards) const {
     const Light& l = scene_.lights()[size_t(v.light)];
     if (std::holds_alternative<AreaLight>(l))
         return scene_.emittedRadiance(v.hit, normalize(towards - v.p));
+    if (const auto* env = std::get_if<EnvironmentLight>(&l))
+        return env->map->radiance(normalize(v.p - towards));
     if (const auto* point = std::get_if<PointLight>(&l)) return point->intensity;
     if (const auto* spot = std::get_if<SpotLight>(&l))
         return spot->intensity * spot->falloff(normalize(towards - v.p));
@@ -69,12 +81,15 @@ void Connector::assemble(std::span<const PathVertex> camera, int t,
                          std::span<const PathVertex> light, int s) {
     path_.clear();
     densities_.clear();
-    for (int i = 0; i < t; ++i) path_.push_back(camera[size_t(i)]);
-    for (int j = s - 1; j >= 0; --j) path_.push_back(light[size_t(j)]);
-    for (const PathVertex& v : path_)
+    auto add = [&](const PathVertex& v) {
         densities_.push_back({v.pdfFromEye, v.pdfFromLight, v.isConnectable()});
+        if (keepPaths_) path_.push_back(v);
+    };
+    for (int i = 0; i < t; ++i) add(camera[size_t(i)]);
+    for (int j = s - 1; j >= 0; --j) add(light[size_t(j)]);
+    const PathVertex& last = s > 0 ? light[0] : camera[size_t(t - 1)];
     info_.cameraConnectable = camera_.isConnectable();
-    info_.lightHittable = isAreaLight(scene_, path_.back().light);
+    info_.lightHittable = isHittable(scene_, last.light);
 }
 
 StrategySample Connector::connect(std::span<const PathVertex> camera,
@@ -94,7 +109,7 @@ StrategySample Connector::connect(std::span<const PathVertex> camera,
     if (!r.valid) return r;
     if (isBlack(r.value) || !isFinite(r.value)) return StrategySample{};
     // The full path carries the densities the connection computed.
-    for (size_t i = 0; i < path_.size(); ++i) {
+    for (size_t i = 0; keepPaths_ && i < path_.size(); ++i) {
         path_[i].pdfFromEye = densities_[i].fromEye;
         path_[i].pdfFromLight = densities_[i].fromLight;
     }
@@ -106,19 +121,21 @@ StrategySample Connector::emitterHit(std::span<const PathVertex> camera, int t) 
     StrategySample r;
     if (t < 2) return r;
     const PathVertex& e = camera[size_t(t - 1)];
-    if (!isAreaLight(scene_, e.light)) return r;
+    if (!isHittable(scene_, e.light)) return r;
     const PathVertex& before = camera[size_t(t - 2)];
-    Rgb le = scene_.emittedRadiance(e.hit, directionTo(e, before));
+    Rgb le = e.atInfinity ? emittedTowards(e, before.p)
+                          : scene_.emittedRadiance(e.hit, directionTo(e, before));
     if (isBlack(le)) return r;
     assemble(camera, t, {}, 0);
     // The last camera vertex is the light vertex of this path.
-    PathVertex& lv = path_.back();
-    lv.kind = VertexKind::Light;
-    lv.delta = false;
-    VertexDensities& x = densities_[size_t(t - 1)];
-    x.fromLight = lightVertexDensity(scene_, e.light);
-    x.connectable = true;
     const Light& light = scene_.lights()[size_t(e.light)];
+    if (keepPaths_) {
+        path_.back().kind = VertexKind::Light;
+        path_.back().delta = !cameraCanConnectTo(light);  // as a light vertex, whatever its BSDF
+    }
+    VertexDensities& x = densities_[size_t(t - 1)];
+    x.fromLight = lightVertexDensity(scene_, e.light, directionTo(before, e));
+    x.connectable = cameraCanConnectTo(light);
     densities_[size_t(t - 2)].fromLight = densityTowards(light, e.p, e.ng, before.p, before.ng);
     info_.lightHittable = true;
     r.valid = true;
@@ -138,14 +155,15 @@ StrategySample Connector::nextEvent(std::span<const PathVertex> camera, int t, R
     PathVertex lv = sampleLightVertex(scene_, light, c.p, u);
     if (!(lv.pdfFromLight > 0)) return r;
     const Light& l = scene_.lights()[size_t(light)];
-    bool directional = std::holds_alternative<DirectionalLight>(l);
+    bool infinite = isInfiniteLight(l);
     Vec3f d = lv.p - c.p;
     float dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return r;
     Vec3f w = d / std::sqrt(dist2);
     // Le times the light end of the edge, |cos_g(light)| / d^2 (1 / d^2 without a surface;
-    // nothing for a directional light, whose "Le" is an irradiance).
-    float geometry = directional ? 1.0f : geometricCos(lv, w) / dist2;
+    // nothing for an infinite light: a directional light's "Le" is an irradiance, and the
+    // environment's vertex density is a solid angle one).
+    float geometry = infinite ? 1.0f : geometricCos(lv, w) / dist2;
     Rgb le = emittedTowards(lv, c.p);
     const PathVertex& before = camera[size_t(t - 2)];
     Vec3f wo = directionTo(c, before);
@@ -155,7 +173,7 @@ StrategySample Connector::nextEvent(std::span<const PathVertex> camera, int t, R
     if (isBlack(value) || !visible(c, lv, rays)) return r;
     assemble(camera, t, std::span<const PathVertex>(&lv, 1), 1);
     VertexDensities& xl = densities_[size_t(t)];
-    xl.fromEye = isAreaLight(scene_, light) ? solidAngleToArea(fc.pdf, c, lv) : 0;
+    xl.fromEye = isHittable(scene_, light) ? solidAngleToArea(fc.pdf, c, lv) : 0;
     densities_[size_t(t - 1)].fromLight = densityTowards(l, lv.p, lv.ng, c.p, c.ng);
     densities_[size_t(t - 2)].fromLight = solidAngleToArea(BoundBsdf(c.bsdf, w).pdf(wo), c, before);
     r.valid = true;

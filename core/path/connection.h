@@ -35,7 +35,10 @@ struct StrategySample {
 
 class Connector {
   public:
-    Connector(const RenderScene& scene, const Camera& camera) : scene_(scene), camera_(camera) {}
+    /// With `keepPaths`, each connection also assembles its complete path (lastPath); BDPT's
+    /// inner loop needs only the densities and leaves it off.
+    Connector(const RenderScene& scene, const Camera& camera, bool keepPaths = false)
+        : scene_(scene), camera_(camera), keepPaths_(keepPaths) {}
 
     /// Strategy (s, t) of the subpaths (which must hold at least t and s vertices). For s == 1
     /// a light vertex is sampled with `rng`. `rays` counts the shadow rays. The weight is
@@ -45,7 +48,7 @@ class Connector {
                            MisHeuristic heuristic = MisHeuristic::Power);
 
     /// The complete path of the last connect() call, camera first (x0 .. xM); for tests and the
-    /// MCMC methods. Valid only when that call returned a valid sample.
+    /// MCMC methods. Valid only when that call returned a valid sample and keepPaths is set.
     const std::vector<PathVertex>& lastPath() const { return path_; }
     /// Its densities as connect() computed them for the MIS weight.
     const std::vector<VertexDensities>& lastDensities() const { return densities_; }
@@ -65,6 +68,7 @@ class Connector {
 
     const RenderScene& scene_;
     const Camera& camera_;
+    bool keepPaths_;
     std::vector<PathVertex> path_;
     std::vector<VertexDensities> densities_;
     MisPathInfo info_;

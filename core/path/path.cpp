@@ -27,6 +27,7 @@ Rgb lightEnd(const RenderScene& scene, const PathVertex& light, const PathVertex
     float dist2 = lengthSquared(d);
     Vec3f w = d / std::sqrt(dist2);
     if (const auto* dir = std::get_if<DirectionalLight>(&l)) return dir->irradiance;
+    if (const auto* env = std::get_if<EnvironmentLight>(&l)) return env->map->radiance(-w);
     float geometry = geometricCos(light, w) / dist2;
     if (std::holds_alternative<AreaLight>(l)) return scene.emittedRadiance(light.hit, w) * geometry;
     if (const auto* point = std::get_if<PointLight>(&l)) return point->intensity * geometry;
@@ -85,7 +86,7 @@ std::vector<VertexDensities> recomputeDensities(const RenderScene& scene, const 
     };
     for (size_t i = 2; i < n; ++i) x[i].fromEye = bsdfDensity(i - 1, i - 2, i);
     const PathVertex& light = path[n - 1];
-    x[n - 1].fromLight = lightVertexDensity(scene, light.light);
+    x[n - 1].fromLight = lightVertexDensity(scene, light.light, unitTo(path[n - 2], light));
     x[n - 2].fromLight =
         densityTowards(lightOf(scene, light), light.p, light.ng, path[n - 2].p, path[n - 2].ng);
     for (size_t i = n - 2; i-- > 0;) x[i].fromLight = bsdfDensity(i + 1, i + 2, i);
@@ -113,7 +114,7 @@ std::string verifyPath(const RenderScene& scene, const Camera& camera,
     for (size_t i = 1; i < path.size(); ++i) {
         bool isLight = i + 1 == path.size();
         // Nothing samples a delta light from the camera side: its fromEye is unused.
-        bool eyeMatters = !isLight || std::holds_alternative<AreaLight>(lightOf(scene, path[i]));
+        bool eyeMatters = !isLight || isHittableLight(lightOf(scene, path[i]));
         if (eyeMatters && !close(path[i].pdfFromEye, want[i].fromEye))
             return "vertex " + std::to_string(i) + ": pdfFromEye " +
                    std::to_string(path[i].pdfFromEye) + ", recomputed " +
@@ -196,8 +197,11 @@ std::vector<PathVertex> deserializePath(const RenderScene& scene, const Camera& 
         if (v.kind == VertexKind::Light &&
             (v.light < 0 || size_t(v.light) >= scene.lights().size()))
             throw std::invalid_argument("not a serialised path (light index)");
-        if (v.kind == VertexKind::Light)
-            v.delta = std::holds_alternative<DirectionalLight>(scene.lights()[size_t(v.light)]);
+        if (v.kind == VertexKind::Light) {
+            const Light& l = scene.lights()[size_t(v.light)];
+            v.delta = !cameraCanConnectTo(l);
+            v.atInfinity = std::holds_alternative<EnvironmentLight>(l);
+        }
     }
     // BSDFs and Dirac flags need the direction a vertex is seen from (opaque lobes mirror).
     for (size_t i = 1; i + 1 < path.size(); ++i) {

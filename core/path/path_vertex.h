@@ -28,9 +28,13 @@ struct PathVertex {
     SurfaceHit hit;  // surfaces and area lights
     Bsdf bsdf;       // surfaces
     int light = -1;  // light vertices: the light's index; surfaces: the area light hit, or -1
-    /// A Dirac BSDF (the vertex is "S" in the Heckbert string), or a light whose direction is a
-    /// delta (directional): no connection edge can end here.
+    /// A Dirac BSDF (the vertex is "S" in the Heckbert string), or a light the camera cannot
+    /// connect to (directional: a delta direction; the environment): no connection edge from a
+    /// pinhole can end here.
     bool delta = false;
+    /// An environment vertex, infinitely far: `p` is a stand-in point beyond the scene, and
+    /// densities of reaching it are solid angle densities (there is no area to convert to).
+    bool atInfinity = false;
     /// Throughput of the subpath up to and including this vertex: f / p of the partial path
     /// (for a light subpath, with Le and the light's densities included).
     Rgb beta{0.0f};
@@ -48,6 +52,7 @@ inline float geometricCos(const PathVertex& v, Vec3f w) {
 
 /// A solid-angle density of leaving `from` towards `to`, converted to area measure at `to`.
 inline float solidAngleToArea(float pdf, const PathVertex& from, const PathVertex& to) {
+    if (to.atInfinity) return pdf;
     Vec3f d = to.p - from.p;
     float dist2 = lengthSquared(d);
     if (!(dist2 > 0)) return 0;

@@ -29,7 +29,10 @@ class Walk {
         while (int(path_.size()) < settings_.maxVertices) {
             SurfaceHit hit;
             ++rays_;
-            if (!scene_.intersect(ray, hit)) return;
+            if (!scene_.intersect(ray, hit)) {
+                if (mode_ == TransportMode::Radiance) addEnvironmentVertex(ray, beta, pdf);
+                return;
+            }
             Vec3f wo = -ray.d;
             PathVertex v = surfaceVertex(hit, wo);
             float cosG = absDot(hit.ng, wo);
@@ -66,6 +69,19 @@ class Walk {
     }
 
   private:
+    /// A camera ray that leaves the scene reaches the environment, if there is one: a vertex
+    /// at infinity, with the ray's direction density (solid angle) as its density.
+    void addEnvironmentVertex(const Ray& ray, Rgb beta, float pdf) {
+        int env = scene_.environmentLightIndex();
+        if (env < 0) return;
+        const auto& light = std::get<EnvironmentLight>(scene_.lights()[size_t(env)]);
+        Vec3f far = ray.o + ray.d * (2 * light.sceneRadius + length(ray.o - light.sceneCenter));
+        PathVertex v = lightVertex(scene_, env, far, Vec3f(0.0f), {}, ray.d);
+        v.pdfFromEye = pdf;
+        v.beta = beta;
+        path_.push_back(v);
+    }
+
     PathVertex surfaceVertex(const SurfaceHit& hit, Vec3f wo) const {
         PathVertex v;
         v.kind = VertexKind::Surface;
@@ -124,17 +140,18 @@ void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ra
         .run(primary, Rgb(1.0f), pdf, camera.isOrthographic());
 }
 
-PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n,
-                       const SurfaceHit& hit) {
+PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n, const SurfaceHit& hit,
+                       Vec3f towardsLight) {
+    const Light& l = scene.lights()[size_t(light)];
     PathVertex v;
     v.kind = VertexKind::Light;
     v.p = p;
     v.ng = n;
     v.hit = hit;
     v.light = light;
-    // A directional light's direction is a delta: nothing can connect to it from a pinhole.
-    v.delta = std::holds_alternative<DirectionalLight>(scene.lights()[size_t(light)]);
-    v.pdfFromLight = lightVertexDensity(scene, light);
+    v.delta = !cameraCanConnectTo(l);
+    v.atInfinity = std::holds_alternative<EnvironmentLight>(l);
+    v.pdfFromLight = lightVertexDensity(scene, light, towardsLight);
     v.beta = Rgb(v.pdfFromLight > 0 ? 1 / v.pdfFromLight : 0.0f);
     return v;
 }
@@ -149,20 +166,21 @@ void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& s
     int light = int(scene.lightSelection().sample(uLight));
     EmittedRay e;
     if (!sampleLe(scene, light, uPos, uDir, e)) return;
-    PathVertex l = lightVertex(scene, light, e.origin, e.normal, e.hit);
+    PathVertex l = lightVertex(scene, light, e.origin, e.normal, e.hit, -e.direction);
     if (!(l.pdfFromLight > 0)) return;
     out.push_back(l);
-    bool directional = std::holds_alternative<DirectionalLight>(scene.lights()[size_t(light)]);
-    // Le |cos at the light| / (density of the origin and of the direction). A directional light
-    // has no cosine and a delta direction: its irradiance over the density of the ray's origin
-    // on its disk, which is also the (projected) density the next vertex gets.
+    bool infinite = isInfiniteLight(scene.lights()[size_t(light)]);
+    // Le |cos at the light| / (density of the origin and of the direction). An infinite light
+    // has no cosine: a directional light's irradiance, or the environment's radiance over its
+    // direction density (lightVertexDensity), over the density of the ray's origin on its disk,
+    // which is also the (projected) density the next vertex gets.
     float cosLight = isBlack(e.normal) ? 1.0f : absDot(e.normal, e.direction);
-    Rgb beta = directional ? e.le / (l.pdfFromLight * e.pdfPos)
-                           : e.le * (cosLight / (l.pdfFromLight * e.pdfDir));
+    Rgb beta = infinite ? e.le / (l.pdfFromLight * e.pdfPos)
+                        : e.le * (cosLight / (l.pdfFromLight * e.pdfDir));
     Ray ray = isBlack(e.normal) ? Ray{e.origin, e.direction, kInf}
                                 : spawnRay(e.origin, e.normal, e.direction);
     Walk(scene, rng, settings, TransportMode::Importance, out, rays)
-        .run(ray, beta, directional ? e.pdfPos : e.pdfDir, directional);
+        .run(ray, beta, infinite ? e.pdfPos : e.pdfDir, infinite);
 }
 
 }  // namespace partita

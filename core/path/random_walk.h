@@ -39,8 +39,10 @@ void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ra
 void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
                        std::vector<PathVertex>& out, uint64_t& rays);
 
-/// The light vertex for light `light` at a sampled emitted ray's origin (its densities set).
-PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n,
-                       const SurfaceHit& hit);
+/// The light vertex for light `light` at point p with normal n (zero without a surface), its
+/// density set; `towardsLight` is the direction from the scene towards it (the environment's
+/// density depends on it).
+PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n, const SurfaceHit& hit,
+                       Vec3f towardsLight);
 
 }  // namespace partita

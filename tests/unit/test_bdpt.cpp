@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "camera.h"
+#include "environment_map.h"
 #include "gltf/gltf_loader.h"
 #include "integrators/bdpt/bdpt_integrator.h"
 #include "render_helpers.h"
@@ -217,6 +218,20 @@ TEST(Bdpt, RendersThePointLightCausticThatPtCannotAndLightTracingAgrees) {
         return name != "combined" && name.size() >= 3 && name[name.size() - 2] == 'D';
     });
     EXPECT_GE(compared, 2);
+}
+
+/// The caustic scene lit by an environment map with a small bright "sun" instead of the point
+/// light: both estimators can sample everything, so they must agree per type.
+TEST(Bdpt, AgreesWithPathTracerUnderAnEnvironmentMap) {
+    SceneData s = causticScene();
+    s.lights.clear();
+    Image sky(32, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x)
+            sky.set(x, y, (y == 2 && x == 15) ? Rgb(400.0f) : Rgb(0.3f, 0.4f, 0.6f + 0.02f * y));
+    s.environment = std::make_shared<EnvironmentMap>(std::move(sky), 20.0f);
+    RenderScene scene(std::move(s));
+    expectBdptMatchesPt(scene, 8, 128, 16, 6);
 }
 
 TEST(Bdpt, ImageDoesNotDependOnThreadCountOrPassSplit) {

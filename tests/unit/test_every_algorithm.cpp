@@ -7,6 +7,7 @@
 
 #include "algorithm.h"
 #include "camera.h"
+#include "environment_map.h"
 #include "render_helpers.h"
 #include "scene_builders.h"
 
@@ -23,7 +24,8 @@ std::vector<std::string> registeredAlgorithms() {
 
 class EveryAlgorithm : public ::testing::TestWithParam<std::string> {
   protected:
-    /// Settings for the algorithm under test with its native budget (samples or mutations per pixel).
+    /// Settings for the algorithm under test with its native budget (samples or mutations per
+    /// pixel).
     RenderSettings smallSettings(int spp, uint64_t seed, int maxDepth = 64) const {
         RenderSettings s;
         s.budgetKind = AlgorithmRegistry::instance().find(GetParam())->nativeBudget;
@@ -152,6 +154,46 @@ TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadrature) {
             EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, res * res))
                 << "pixel " << x << "," << y;
         }
+}
+
+/// A cube of albedo rho (flat faces: shading and geometric normals agree) under a uniform
+/// environment Le: convex, so every face point sees the whole sky once, L = rho Le, and nothing
+/// reflects twice. A pixel's background part is type LE and its cube part LDE, so whatever the
+/// cube covers of it, LE + LDE / rho = Le exactly, pixel by pixel, and no other type exists.
+TEST_P(EveryAlgorithm, CubeUnderAUniformEnvironmentMatchesClosedForm) {
+    const float rho = 0.5f, le = 1.5f;
+    SceneData s;
+    s.materials = {test::lambertMaterial(Rgb(rho))};
+    s.meshes.push_back(test::box({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, 0, false));
+    s.environment = std::make_shared<EnvironmentMap>(EnvironmentMap::uniform(Rgb(le)));
+    s.cameras.push_back(test::lookAtCamera({1.2f, 0.9f, 1.6f}, {0, 0, 0}, 1.0f));
+    RenderScene scene(std::move(s));
+    const int seeds = 6;
+    RenderSettings st = smallSettings(8, 1, 8);
+    std::vector<std::vector<double>> perPixel(size_t(st.width * st.height));
+    double otherTypes = 0, cube = 0;
+    for (int seed = 0; seed < seeds; ++seed) {
+        st.seed = 40 + uint64_t(seed);
+        RenderResult r = renderWith(scene, GetParam(), st);
+        const Image* background = r.image.layer("LE");
+        const Image* lit = r.image.layer("LDE");
+        ASSERT_TRUE(background && lit);
+        for (const auto& layer : r.image.layers)
+            if (layer.name != "LE" && layer.name != "LDE")
+                otherTypes += luminance(layer.image.mean());
+        cube += luminance(lit->mean());
+        for (int y = 0; y < st.height; ++y)
+            for (int x = 0; x < st.width; ++x)
+                perPixel[size_t(y * st.width + x)].push_back(background->at(x, y).y +
+                                                             lit->at(x, y).y / rho);
+    }
+    EXPECT_EQ(otherTypes, 0.0);
+    EXPECT_GT(cube, 0.0);
+    int comparisons = st.width * st.height;
+    for (int i = 0; i < comparisons; ++i) {
+        auto m = meanAndError(perPixel[size_t(i)]);
+        EXPECT_NEAR(m.mean, le, test::statisticalTolerance(m, le, comparisons)) << "pixel " << i;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, EveryAlgorithm, ::testing::ValuesIn(registeredAlgorithms()),

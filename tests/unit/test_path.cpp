@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "camera.h"
+#include "environment_map.h"
 #include "gltf/gltf_loader.h"
 #include "integrators/pt/pt_integrator.h"
 #include "path/connection.h"
@@ -34,7 +35,7 @@ int forEachStrategy(PathFixture& f, int samples, Check&& check) {
     WalkSettings walk;
     walk.maxVertices = 7;
     walk.rouletteStartDepth = 1000;
-    Connector connector(f.scene, f.camera);
+    Connector connector(f.scene, f.camera, /*keepPaths=*/true);
     std::vector<PathVertex> cam, light;
     int checked = 0;
     for (int i = 0; i < samples; ++i) {
@@ -126,7 +127,7 @@ TEST(PathRepresentation, DensitiesWeightsAndContributionsWithSpecularVertices) {
     checkPaths(test::specularBoxScene());
 }
 
-TEST(PathRepresentation, DensitiesWeightsAndContributionsWithPunctualLights) {
+TEST(PathRepresentation, DensitiesWeightsAndContributionsWithPunctualLightsAndEnvironment) {
     SceneData s = test::specularBoxScene();
     PunctualLightDesc point;
     point.type = PunctualLightDesc::Type::Point;
@@ -144,6 +145,13 @@ TEST(PathRepresentation, DensitiesWeightsAndContributionsWithPunctualLights) {
     // A hole in the ceiling lets the directional light in.
     s.meshes[0] = test::box({-1, 0, -1}, {1, 2, 1}, 0, true);
     s.meshes[0].indices.resize(s.meshes[0].indices.size() - 6);  // drop the +y face
+    checkPaths(s);
+    // And the environment, seen through the same hole.
+    Image sky(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            sky.set(x, y, Rgb(0.2f + 0.1f * float(x), 0.5f, 1.0f / (1 + y)));
+    s.environment = std::make_shared<EnvironmentMap>(std::move(sky), 30.0f);
     checkPaths(std::move(s));
 }
 

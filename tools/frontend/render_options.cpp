@@ -25,6 +25,20 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
     app.add_option("--epsilon", s.guideEpsilon, "epsilon of Eq. 17")->capture_default_str();
     app.add_option("--layers", s.maxTypeLayers, "path-type layers kept in the EXR before 'other'")
         ->capture_default_str();
+    app.add_option("--environment", s.environment.file,
+                   "equirectangular EXR/HDR lighting the scene from afar (+Y up, centre at -Z)");
+    app.add_option_function<std::vector<float>>(
+           "--environment-color",
+           [&s](const std::vector<float>& c) {
+               s.environment.hasColor = true;
+               s.environment.color = {c[0], c[1], c[2]};
+           },
+           "uniform environment radiance R,G,B")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--environment-rotation", s.environment.rotationDegrees,
+                   "turn the environment about +Y, degrees")
+        ->capture_default_str();
     app.add_option("--threads", o.threads, "worker threads (0 = all)")->capture_default_str();
 }
 

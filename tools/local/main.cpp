@@ -16,6 +16,7 @@
 #include "image_io.h"
 #include "render_scene.h"
 #include "renderer.h"
+#include "scene_environment.h"
 #include "thread_pool.h"
 
 namespace fs = std::filesystem;
@@ -54,6 +55,7 @@ int renderCommand(const std::string& scenePath, RenderOptions& options, const st
     checkOutputFolder(pngPath);
     SceneData data = loadGltfFile(scenePath);
     for (const auto& w : data.warnings) spdlog::warn("{}", w);
+    attachEnvironment(data, options.settings.environment);
     RenderScene scene(std::move(data));
     ThreadPool pool(options.threads);
     ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());

@@ -91,7 +91,10 @@ class PathSampler {
         } else {
             found = scene_.intersect(ray_, hit);
         }
-        if (!found) return false;
+        if (!found) {
+            addEnvironment(ray_.d);
+            return false;
+        }
         if (state_.inMedium)
             state_.beta *= beerLambert(state_.mediumAbsorption, hit.t * length(ray_.d));
         addEmission(hit, -ray_.d);
@@ -147,6 +150,17 @@ class PathSampler {
                 scene_.lightSelectionPmf(light) * scene_.areaLightPdf(light, state_.prevPoint, hit);
             weight = powerHeuristic(state_.prevBsdfPdf, lightPdf);
         }
+        report(state_.type, state_.beta * le * weight, false);
+    }
+
+    /// The environment seen by a ray that leaves the scene, MIS-weighted against sampling it.
+    void addEnvironment(Vec3f d) {
+        if (!scene_.hasEnvironment()) return;
+        Rgb le = scene_.environmentRadiance(d);
+        if (isBlack(le)) return;
+        float weight = state_.prevSpecular
+                           ? 1.0f
+                           : powerHeuristic(state_.prevBsdfPdf, scene_.environmentPdf(d));
         report(state_.type, state_.beta * le * weight, false);
     }
 
