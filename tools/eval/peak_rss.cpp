@@ -1,5 +1,6 @@
 #include "eval/peak_rss.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <fstream>
@@ -33,6 +34,9 @@ double peakRssMb() {
 }
 
 bool resetPeakRss() {
+    // Memory an earlier render freed but the allocator kept would otherwise serve the next one
+    // without showing as an increase.
+    malloc_trim(0);
     std::ofstream f("/proc/self/clear_refs");
     f << "5";
     f.flush();

@@ -10,7 +10,8 @@ namespace partita::eval {
 double currentRssMb();
 /// Peak resident memory in MiB since the last successful reset (VmHWM), else since start.
 double peakRssMb();
-/// Sets the peak to the current resident memory; false when the system refuses.
+/// Returns freed heap memory to the system (glibc malloc_trim) and sets the peak to the current
+/// resident memory; false when the system refuses the reset.
 bool resetPeakRss();
 
 }  // namespace partita::eval
