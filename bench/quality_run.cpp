@@ -109,6 +109,7 @@ void printLayerRows(const std::vector<AlgorithmRun>& runs,
     for (const auto& r : runs) std::printf("  %-20s", r.algorithm.c_str());
     std::printf("\n");
     size_t shown = 0;
+    bool partial = false;
     for (const auto& name : layerOrder) {
         if (shown++ == tableLayers + 1) {  // + 1: "combined" is not a type layer
             std::printf("... %zu more layers in the JSON\n", layerOrder.size() - shown + 1);
@@ -121,10 +122,17 @@ void printLayerRows(const std::vector<AlgorithmRun>& runs,
         std::printf("%-20s %10s", name.c_str(), refText);
         for (const auto& r : runs) {
             LayerSpread s = layerSpread(r, name);
-            std::printf("  %-20s", s.seeds ? meanStd(s.rmse).c_str() : "-");
+            std::string text = s.seeds ? meanStd(s.rmse) : "-";
+            if (s.seeds && size_t(s.seeds) < r.runs.size()) {
+                text += " *";  // the renders of some seeds did not keep this type
+                partial = true;
+            }
+            std::printf("  %-20s", text.c_str());
         }
         std::printf("\n");
     }
+    if (partial)
+        std::printf("* over the seeds whose render kept this type among its --layers largest\n");
 }
 
 }  // namespace

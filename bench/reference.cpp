@@ -159,8 +159,11 @@ nlohmann::json runReference(ReferenceOptions o) {
         halves[h] = renderTimed(*scene, o.render.algorithm, half, pool, o.quiet,
                                 "half " + std::to_string(h + 1) + "/2");
     }
-    LayeredImage image = meanOfTwo(halves[0].result.image, halves[1].result.image);
+    // Scenes with more types than --layers keep different ones per half (the rest in "other").
+    foldUnsharedLayers(halves[0].result.image, halves[1].result.image);
     auto errors = halfSplitError(halves[0].result.image, halves[1].result.image);
+    LayeredImage image = meanOfTwo(std::move(halves[0].result.image), halves[1].result.image);
+    halves[1].result.image = {};  // a layered image can be large: layers x width x height x 12 B
     Metadata meta = referenceMetadata(o, total, key, keyText, errors, halves);
     double seconds = halves[0].wallSeconds + halves[1].wallSeconds;
     fs::path written = o.noCache ? fs::path(o.out) : cached;

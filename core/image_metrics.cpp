@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "film.h"
+
 namespace partita {
 
 namespace {
@@ -31,11 +33,32 @@ double relWeight(double r) { return 1.0 / (r * r + kRelMseEpsilon); }
 
 Image blackLike(const Image& image) { return Image(image.width, image.height); }
 
-Image mean(const Image& a, const Image& b) {
+/// a = (a + b) / 2.
+void averageInto(Image& a, const Image& b) {
     requireSameSize(a, b);
-    Image out(a.width, a.height);
-    for (size_t i = 0; i < a.rgb.size(); ++i) out.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
-    return out;
+    for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+}
+
+void addInto(Image& a, const Image& b) {
+    requireSameSize(a, b);
+    for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] += b.rgb[i];
+}
+
+/// Moves the layers of `image` that `other` lacks into `image`'s "other".
+void foldInto(LayeredImage& image, const LayeredImage& other) {
+    Image rest = blackLike(image.combined);
+    bool hadRest = false;
+    std::vector<ImageLayer> kept;
+    for (auto& layer : image.layers) {
+        if (layer.name != Film::kOtherLayer && other.layer(layer.name)) {
+            kept.push_back(std::move(layer));
+        } else {
+            addInto(rest, layer.image);
+            hadRest = true;
+        }
+    }
+    if (hadRest) kept.push_back({Film::kOtherLayer, std::move(rest)});
+    image.layers = std::move(kept);
 }
 
 LayerError halfSplit(const std::string& name, const Image& a, const Image& b) {
@@ -66,22 +89,31 @@ std::vector<LayerError> compareLayers(const LayeredImage& x, const LayeredImage&
     out.push_back(
         {kCombinedLayerName, rmse(x.combined, ref.combined), relMse(x.combined, ref.combined)});
     for (const auto& layer : ref.layers)
-        if (const Image* mine = x.layer(layer.name))
+        if (const Image* mine = x.layer(layer.name); mine && layer.name != Film::kOtherLayer)
             out.push_back({layer.name, rmse(*mine, layer.image), relMse(*mine, layer.image)});
     return out;
 }
 
-LayeredImage meanOfTwo(const LayeredImage& a, const LayeredImage& b) {
-    LayeredImage out;
-    out.combined = mean(a.combined, b.combined);
+void foldUnsharedLayers(LayeredImage& a, LayeredImage& b) {
+    if (!a.layer(Film::kOtherLayer) && !b.layer(Film::kOtherLayer)) return;
+    foldInto(a, b);  // now a's types are among b's
+    foldInto(b, a);  // and b's among a's
+}
+
+LayeredImage meanOfTwo(LayeredImage a, const LayeredImage& b) {
+    averageInto(a.combined, b.combined);
     Image zero = blackLike(a.combined);
-    for (const auto& layer : a.layers) {
+    for (auto& layer : a.layers) {
         const Image* other = b.layer(layer.name);
-        out.layers.push_back({layer.name, mean(layer.image, other ? *other : zero)});
+        averageInto(layer.image, other ? *other : zero);
     }
-    for (const auto& layer : b.layers)
-        if (!a.layer(layer.name)) out.layers.push_back({layer.name, mean(zero, layer.image)});
-    return out;
+    for (const auto& layer : b.layers) {
+        if (a.layer(layer.name)) continue;
+        Image half = zero;
+        averageInto(half, layer.image);
+        a.layers.push_back({layer.name, std::move(half)});
+    }
+    return a;
 }
 
 std::vector<LayerError> halfSplitError(const LayeredImage& a, const LayeredImage& b) {

@@ -30,13 +30,22 @@ struct LayerError {
     double rmse = 0, relMse = 0;
 };
 
-/// "combined" first, then every layer that both images have, in the reference's order.
+/// "combined" first, then every layer that both images have, in the reference's order, except
+/// "other" (Film::kOtherLayer): what it holds depends on which types each film kept.
 /// std::invalid_argument when the sizes differ.
 std::vector<LayerError> compareLayers(const LayeredImage& x, const LayeredImage& ref);
 
+/// When a film had more types than it keeps, it merges the rest into "other", and two renders
+/// keep different types. Then every layer that only one of `a` and `b` has is added into that
+/// image's "other" (created if needed, last) and removed, so that both hold the same types and
+/// each type is in the same layer of both. Without "other" in either, nothing changes: a layer
+/// that one render lacks is then a type it never sampled, black.
+void foldUnsharedLayers(LayeredImage& a, LayeredImage& b);
+
 /// The pixel-wise mean of two renders of one budget, layer by layer: the layers of `a` in its
 /// order, then those only `b` has; a layer missing from one image counts as black there.
-LayeredImage meanOfTwo(const LayeredImage& a, const LayeredImage& b);
+/// `a` is taken by value so that a caller can move it in and the mean reuses its memory.
+LayeredImage meanOfTwo(LayeredImage a, const LayeredImage& b);
 
 /// The error of meanOfTwo(a, b) against its expectation, for two independent renders a and b of
 /// equal budget (same variance s^2 per value): E[(a - b)^2] = 2 s^2 and the mean has variance

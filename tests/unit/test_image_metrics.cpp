@@ -75,6 +75,42 @@ TEST(ImageMetrics, MeanOfTwoTakesTheUnionOfLayersWithMissingOnesBlack) {
     EXPECT_FLOAT_EQ(m.layers[1].image.at(0, 0).z, 1.0f);
 }
 
+TEST(ImageMetrics, CompareLayersLeavesOutOther) {
+    LayeredImage ref{filled(2, 2, 1.0f),
+                     {{"LDE", filled(2, 2, 0.5f)}, {"other", filled(2, 2, 0.5f)}}};
+    LayeredImage x{filled(2, 2, 1.0f),
+                   {{"other", filled(2, 2, 7.0f)}, {"LDE", filled(2, 2, 0.5f)}}};
+    auto errors = compareLayers(x, ref);
+    ASSERT_EQ(errors.size(), 2u);
+    EXPECT_EQ(errors[1].layer, "LDE");
+}
+
+TEST(ImageMetrics, FoldUnsharedLayersMovesTypesOneFilmDroppedIntoOther) {
+    // a kept LDE and LSDE (and dropped LDDE into other); b kept LDE and LDDE (dropped LSDE).
+    LayeredImage a{
+        filled(1, 1, 6.0f),
+        {{"LDE", filled(1, 1, 1.0f)}, {"LSDE", filled(1, 1, 2.0f)}, {"other", filled(1, 1, 3.0f)}}};
+    LayeredImage b{
+        filled(1, 1, 6.0f),
+        {{"LDDE", filled(1, 1, 3.0f)}, {"LDE", filled(1, 1, 1.0f)}, {"other", filled(1, 1, 2.0f)}}};
+    foldUnsharedLayers(a, b);
+    for (const LayeredImage* img : {&a, &b}) {
+        ASSERT_EQ(img->layers.size(), 2u);
+        EXPECT_FLOAT_EQ(img->layer("LDE")->at(0, 0).x, 1.0f);
+        ASSERT_NE(img->layer("other"), nullptr);
+        EXPECT_FLOAT_EQ(img->layer("other")->at(0, 0).x, 5.0f);  // LSDE + LDDE
+        EXPECT_EQ(img->layers.back().name, "other");
+    }
+}
+
+TEST(ImageMetrics, FoldUnsharedLayersKeepsCompleteFilmsAsTheyAre) {
+    LayeredImage a{filled(1, 1, 1.0f), {{"LDE", filled(1, 1, 1.0f)}}};
+    LayeredImage b{filled(1, 1, 2.0f), {{"LDE", filled(1, 1, 1.0f)}, {"LSDE", filled(1, 1, 1.0f)}}};
+    foldUnsharedLayers(a, b);  // no "other": LSDE is a type a never sampled
+    EXPECT_EQ(a.layers.size(), 1u);
+    EXPECT_EQ(b.layers.size(), 2u);
+}
+
 /// Two independent "renders": truth mu plus Gaussian noise of standard deviation sigma.
 LayeredImage noisy(const Image& mu, double sigma, uint32_t seed) {
     std::mt19937 rng(seed);
