@@ -33,7 +33,8 @@ Metadata referenceMetadata(const ReferenceOptions& o, const RenderSettings& tota
                            const std::string& key, const std::string& keyText,
                            const std::vector<LayerError>& errors, const TimedRender halves[2]) {
     Metadata m = describeRender(o.render.algorithm, total, {});
-    m["partita:layers"] = std::to_string(total.maxTypeLayers);
+    m["partita:max_type_layers"] =
+        std::to_string(total.maxTypeLayers);  // "partita:layers" is the order
     m["partita:reference:scene"] = o.scene;
     m["partita:reference:key"] = key;
     m["partita:reference:key_text"] = keyText;
