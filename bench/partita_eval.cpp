@@ -89,6 +89,8 @@ static CLI::App* addQualityCommand(CLI::App& app, eval::QualityOptions& o, std::
     // x 12 bytes each) would otherwise dominate the measured memory. --layers 1024 compares all.
     addRenderOptions(*cmd, o.render);
     cmd->remove_option(cmd->get_option("--algorithm"));  // --algorithms instead
+    for (const char* size : {"--width", "--height"})     // unless given, the reference's size
+        cmd->get_option(size)->default_str("the reference's");
     cmd->add_option("--json", json, "also write the figures as JSON to this file");
     return cmd;
 }
