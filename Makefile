@@ -12,7 +12,7 @@ DEMO_SPP   ?= 64
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: all deps configure build test demo bench fuzz format scenes clean
+.PHONY: all deps configure build test demo bench references fuzz format scenes clean
 
 all: build
 
@@ -42,6 +42,14 @@ bench: deps
 	$(BENCH_BUILD)/bench/partita-eval throughput --scene $(SCENE) --json $(BENCH_BUILD)/throughput.json
 	$(BENCH_BUILD)/bench/partita-eval service --json $(BENCH_BUILD)/service.json
 	$(BENCH_BUILD)/bench/partita-bench --benchmark_min_time=0.2
+
+# The cached reference of every shipped scene (bench/make-references.sh; SPP, WIDTH, HEIGHT from
+# the environment). REFERENCE_ARGS="--force" re-renders them, "--algorithm pt" until bdpt exists.
+REFERENCE_ARGS ?=
+references: deps
+	@cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DPARTITA_BUILD_BENCH=ON >/dev/null
+	@cmake --build $(BENCH_BUILD) -j$(JOBS) --target partita-eval
+	PARTITA_EVAL=$(BENCH_BUILD)/bench/partita-eval bench/make-references.sh $(REFERENCE_ARGS)
 
 fuzz: deps
 	@cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

@@ -4,12 +4,17 @@
 //   partita-eval service [--scene S --width W --height H --spp N --seed N --max-depth N
 //                        --threads N --repeats N --preview-interval S --jobs N
 //                        --small-scene NAME] [--json F]      (built with PARTITA_BUILD_SERVICE)
-// (`reference` and `quality` arrive with BDPT and the MCMC algorithms.)
+//   partita-eval reference --scene S (--spp N | --mpp N) [--out ref.exr] [--cache DIR]
+//                          [--no-cache] [--force] [render options] [--json F]
+//   partita-eval quality --scene S --algorithms a,b,... (--spp N | --mpp N | --seconds S)
+//                        --seeds K --reference ref.exr [--equal-time] [render options] [--json F]
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <fstream>
 
+#include "quality.h"
+#include "reference.h"
 #include "throughput.h"
 #ifdef PARTITA_EVAL_SERVICE
 #include "service_bench.h"
@@ -44,6 +49,52 @@ static CLI::App* addServiceCommand(CLI::App& app, eval::ServiceOptions& o, std::
 }
 #endif
 
+static CLI::App* addReferenceCommand(CLI::App& app, eval::ReferenceOptions& o, std::string& json) {
+    auto* cmd = app.add_subcommand(
+        "reference", "a cached reference with every type layer and its own error (two halves)");
+    cmd->add_option("--scene", o.scene, "a .gltf/.glb scene")->required();
+    cmd->add_option("--out", o.out, "also copy the reference here");
+    cmd->add_option("--cache", o.cacheDir,
+                    "cache folder (default $PARTITA_REFERENCE_CACHE, else <build>/references)");
+    cmd->add_flag("--no-cache", o.noCache, "neither read nor write the cache (needs --out)");
+    cmd->add_flag("--force", o.force, "render even when cached, replacing the cached file");
+    cmd->add_flag("--quiet", o.quiet, "no progress bar");
+    // The reference keeps every type (1024 is the film's limit) and defaults to BDPT.
+    o.render.algorithm = "bdpt";
+    o.render.settings.maxTypeLayers = 1024;
+    addRenderOptions(*cmd, o.render);
+    cmd->get_option("--algorithm")->description("the reference's algorithm")->capture_default_str();
+    cmd->add_option("--json", json, "also write the figures as JSON to this file");
+    return cmd;
+}
+
+static CLI::App* addQualityCommand(CLI::App& app, eval::QualityOptions& o, std::string& json) {
+    auto* cmd = app.add_subcommand(
+        "quality", "RMSE/relMSE against a reference per algorithm over seeds, time, memory");
+    cmd->add_option("--scene", o.scene, "a .gltf/.glb scene")->required();
+    cmd->add_option("--reference", o.reference, "the reference EXR (partita-eval reference)")
+        ->required();
+    cmd->add_option("--algorithms", o.algorithms, "comma-separated, e.g. pt,bdpt")
+        ->required()
+        ->delimiter(',');
+    cmd->add_option("--seeds", o.seeds, "independent renders per algorithm (seeds --seed, +1 ...)")
+        ->capture_default_str();
+    cmd->add_flag("--equal-time", o.equalTime,
+                  "every algorithm after the first gets the first's mean wall time");
+    cmd->add_option("--table-layers", o.tableLayers, "type layers in the printed table")
+        ->capture_default_str();
+    cmd->add_flag("--quiet", o.quiet, "no progress bar");
+    // The renders keep the film's default of 32 type layers, the largest by energy: each is
+    // compared with the reference's layer of that type, and the resolved layers (width x height
+    // x 12 bytes each) would otherwise dominate the measured memory. --layers 1024 compares all.
+    addRenderOptions(*cmd, o.render);
+    cmd->remove_option(cmd->get_option("--algorithm"));  // --algorithms instead
+    for (const char* size : {"--width", "--height"})     // unless given, the reference's size
+        cmd->get_option(size)->default_str("the reference's");
+    cmd->add_option("--json", json, "also write the figures as JSON to this file");
+    return cmd;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"partita-eval: the Partita evaluation harness"};
     app.require_subcommand(1);
@@ -67,6 +118,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     throughput->add_option("--camera", tp.camera);
     throughput->add_option("--json", jsonPath, "also write the figures as JSON to this file");
+    eval::ReferenceOptions ro;
+    CLI::App* reference = addReferenceCommand(app, ro, jsonPath);
+    eval::QualityOptions qo;
+    CLI::App* quality = addQualityCommand(app, qo, jsonPath);
 #ifdef PARTITA_EVAL_SERVICE
     eval::ServiceOptions so;
     CLI::App* service = addServiceCommand(app, so, jsonPath);
@@ -82,6 +137,11 @@ int main(int argc, char** argv) {
     try {
         nlohmann::json out;
         if (*throughput) out = eval::runThroughput(tp);
+        if (*reference) out = eval::runReference(ro);
+        if (*quality) {
+            qo.sizeGiven = quality->count("--width") + quality->count("--height") > 0;
+            out = eval::runQuality(qo);
+        }
 #ifdef PARTITA_EVAL_SERVICE
         if (*service) out = eval::runServiceBench(so);
 #endif
