@@ -1,5 +1,7 @@
 #include "eval_render.h"
 
+#include "scene_environment.h"
+
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -36,9 +38,11 @@ class LabelledBar : public RenderObserver {
 
 }  // namespace
 
-std::unique_ptr<RenderScene> loadRenderScene(const std::string& path) {
+std::unique_ptr<RenderScene> loadRenderScene(const std::string& path,
+                                             const EnvironmentSettings& environment) {
     SceneData data = loadGltfFile(path);
     for (const auto& w : data.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    attachEnvironment(data, environment);
     return std::make_unique<RenderScene>(std::move(data));
 }
 

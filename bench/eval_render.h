@@ -16,7 +16,9 @@ class ThreadPool;
 namespace partita::eval {
 
 /// Loads a .gltf/.glb (warnings on stderr) and builds its acceleration structure.
-std::unique_ptr<RenderScene> loadRenderScene(const std::string& path);
+/// The scene at `path`, lit by `environment` (the job's, if any).
+std::unique_ptr<RenderScene> loadRenderScene(const std::string& path,
+                                             const EnvironmentSettings& environment);
 
 struct TimedRender {
     RenderResult result;

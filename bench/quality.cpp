@@ -186,7 +186,7 @@ nlohmann::json runQuality(QualityOptions o) {
         a.settings.height = o.render.settings.height;
     }
     warnOnMismatch(o, ref);
-    auto scene = loadRenderScene(o.scene);
+    auto scene = loadRenderScene(o.scene, o.render.settings.environment);
     ThreadPool pool(o.render.threads);
     std::vector<AlgorithmRun> runs;
     for (size_t i = 0; i < algorithms.size(); ++i) {

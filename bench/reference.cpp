@@ -150,7 +150,7 @@ nlohmann::json runReference(ReferenceOptions o) {
         return summary(cached.string(), key, true, 0, errors);
     }
 
-    auto scene = loadRenderScene(o.scene);
+    auto scene = loadRenderScene(o.scene, o.render.settings.environment);
     ThreadPool pool(o.render.threads);
     TimedRender halves[2];
     for (int h = 0; h < 2; ++h) {

@@ -88,6 +88,27 @@ TEST_F(ReferenceKeyTest, ChangesWithEverySettingThatChangesTheImage) {
     EXPECT_NE(changed([](RenderSettings& s) { s.maxTypeLayers = 1024; }), base);
 }
 
+TEST_F(ReferenceKeyTest, ChangesWithTheEnvironmentAndItsBytes) {
+    std::string base = key();
+    RenderSettings colour;
+    colour.environment.hasColor = true;
+    colour.environment.color = {1, 1, 1};
+    std::string withColour = key(colour);
+    EXPECT_NE(withColour, base);
+    colour.environment.color = {1, 1, 0.5f};
+    EXPECT_NE(key(colour), withColour);
+    write("sky.exr", "sky bytes");
+    RenderSettings file;
+    file.environment.file = (dir_ / "sky.exr").string();
+    std::string withFile = key(file);
+    EXPECT_NE(withFile, base);
+    file.environment.rotationDegrees = 90;
+    EXPECT_NE(key(file), withFile);
+    file.environment.rotationDegrees = 0;
+    write("sky.exr", "sky bytez");
+    EXPECT_NE(key(file), withFile);
+}
+
 TEST_F(ReferenceKeyTest, ChangesWithAnyByteOfTheSceneOrItsResources) {
     std::string base = key();
     write("mesh.bin", "abce");

@@ -117,6 +117,19 @@ std::string referenceKeyText(const std::vector<SceneFile>& files, const std::str
       << "k=" << s.partitions << "\ny=" << s.guideCandidates << "\n"
       << "radius=" << number(s.guideRadius) << "\nepsilon=" << number(s.guideEpsilon) << "\n"
       << "layers=" << s.maxTypeLayers << "\n";
+    const EnvironmentSettings& env = s.environment;
+    if (env.hasColor)
+        t << "environment_color=" << number(env.color[0]) << "," << number(env.color[1]) << ","
+          << number(env.color[2]) << "\n";
+    if (env.enabled()) t << "environment_rotation=" << number(env.rotationDegrees) << "\n";
+    if (!env.file.empty()) {
+        // The environment image by its bytes, as the scene's files.
+        std::vector<uint8_t> bytes;
+        std::error_code ec;
+        if (fs::exists(env.file, ec)) bytes = readFile(env.file);
+        t << "environment_file " << bytes.size() << " " << hashBytes(bytes.data(), bytes.size())
+          << "\n";
+    }
     for (const auto& f : files) t << "file " << f.name << " " << f.size << " " << f.hash << "\n";
     return t.str();
 }
