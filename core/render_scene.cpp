@@ -9,6 +9,7 @@
 #include <string>
 
 #include "material_mapping.h"
+#include "medium.h"
 
 namespace partita {
 
@@ -50,6 +51,7 @@ RenderScene::RenderScene(SceneData data)
     prepareMeshes();
     buildAccel();
     buildLights();
+    for (const Material& m : data_.materials) hasAbsorption_ |= !isBlack(absorptionOf(m));
 }
 
 RenderScene::~RenderScene() = default;

@@ -71,6 +71,8 @@ class RenderScene {
     Rgb emittedRadiance(const SurfaceHit& hit, Vec3f w) const;
 
     const std::vector<Light>& lights() const { return lights_; }
+    /// Whether any material absorbs (KHR_materials_volume): path edges need transmittances.
+    bool hasAbsorption() const { return hasAbsorption_; }
     /// Index of the area light of the hit triangle, or -1.
     int areaLightIndex(const SurfaceHit& hit) const { return triangleOf(hit).areaLight; }
     /// Probability of choosing light i in lightSelection().
@@ -142,6 +144,7 @@ class RenderScene {
     std::vector<Light> lights_;
     AliasTable lightSelection_;
     int environmentLight_ = -1;
+    bool hasAbsorption_ = false;
     struct Embree;
     std::unique_ptr<Embree> embree_;
 };

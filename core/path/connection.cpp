@@ -6,6 +6,7 @@
 #include "camera.h"
 #include "light_emission.h"
 #include "path/random_walk.h"
+#include "path/transmittance.h"
 #include "render_scene.h"
 
 namespace partita {
@@ -169,7 +170,8 @@ StrategySample Connector::nextEvent(std::span<const PathVertex> camera, int t, R
     Vec3f wo = directionTo(c, before);
     BoundBsdf bsdf(c.bsdf, wo);
     BoundBsdf::Value fc = bsdf.evalPdf(w);
-    Rgb value = c.beta * fc.f * (absDot(w, c.hit.ns) * geometry) * le * lv.beta;
+    Rgb value = c.beta * fc.f * (absDot(w, c.hit.ns) * geometry) * le * lv.beta *
+                edgeTransmittance(scene_, c, lv);
     if (isBlack(value) || !visible(c, lv, rays)) return r;
     assemble(camera, t, std::span<const PathVertex>(&lv, 1), 1);
     VertexDensities& xl = densities_[size_t(t)];
@@ -211,7 +213,7 @@ StrategySample Connector::lightTracing(std::span<const PathVertex> light, int s,
         scatter = v.f;
         pdfTowardsNext = v.pdf;
     }
-    Rgb value = l.beta * scatter * (we * geometry);
+    Rgb value = l.beta * scatter * (we * geometry) * edgeTransmittance(scene_, l, eye);
     if (isBlack(value) || !visible(l, eye, rays)) return r;
     PathVertex eyes[1] = {eye};
     assemble(std::span<const PathVertex>(eyes, 1), 1, light, s);
@@ -241,7 +243,7 @@ StrategySample Connector::edge(std::span<const PathVertex> camera,
     BoundBsdf::Value fl = BoundBsdf(l.bsdf, -w).evalPdf(wiL);
     // The new edge: |cos_s| at its camera end, |cos_g| at its light end (random_walk.h).
     float geometry = absDot(w, c.hit.ns) * geometricCos(l, w) / dist2;
-    Rgb value = c.beta * fc.f * geometry * fl.f * l.beta;
+    Rgb value = c.beta * fc.f * geometry * fl.f * l.beta * edgeTransmittance(scene_, c, l);
     if (isBlack(value) || !visible(c, l, rays)) return r;
     assemble(camera, t, light, s);
     densities_[size_t(t)].fromEye = solidAngleToArea(fc.pdf, c, l);

@@ -7,6 +7,7 @@
 #include "bsdfs/bound_bsdf.h"
 #include "camera.h"
 #include "light_emission.h"
+#include "path/transmittance.h"
 #include "render_scene.h"
 
 namespace partita {
@@ -57,6 +58,7 @@ Rgb pathContribution(const RenderScene& scene, const Camera& camera,
             f *= geometricCos(next, toLight) / lengthSquared(next.p - x.p);
         }
     }
+    for (size_t i = 0; i + 1 < n; ++i) f *= edgeTransmittance(scene, path[i], path[i + 1]);
     return f * lightEnd(scene, path[n - 1], path[n - 2]);
 }
 

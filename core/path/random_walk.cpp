@@ -6,6 +6,7 @@
 #include "bsdfs/bound_bsdf.h"
 #include "camera.h"
 #include "light_emission.h"
+#include "path/transmittance.h"
 #include "render_scene.h"
 
 namespace partita {
@@ -35,6 +36,7 @@ class Walk {
             }
             Vec3f wo = -ray.d;
             PathVertex v = surfaceVertex(hit, wo);
+            beta *= edgeTransmittance(scene_, path_.back(), v);
             float cosG = absDot(hit.ng, wo);
             float density = parallel ? pdf * cosG : solidAngleToArea(pdf, path_.back(), v);
             forwardPdf(v) = density;

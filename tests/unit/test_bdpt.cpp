@@ -220,6 +220,19 @@ TEST(Bdpt, RendersThePointLightCausticThatPtCannotAndLightTracingAgrees) {
     EXPECT_GE(compared, 2);
 }
 
+/// The specular box with its glass sphere tinted by absorption (KHR_materials_volume): light
+/// crossing the sphere is attenuated along its path inside, in both estimators.
+TEST(Bdpt, AgreesWithPathTracerThroughAbsorbingGlass) {
+    SceneData s = test::specularBoxScene();
+    Material& glass = s.materials[3];
+    glass.hasVolume = true;
+    glass.attenuationColor = Rgb(0.2f, 0.5f, 0.9f);
+    glass.attenuationDistance = 0.3f;
+    RenderScene scene(std::move(s));
+    ASSERT_TRUE(scene.hasAbsorption());
+    expectBdptMatchesPt(scene, 8, 128, 16, 8);
+}
+
 /// The caustic scene lit by an environment map with a small bright "sun" instead of the point
 /// light: both estimators can sample everything, so they must agree per type.
 TEST(Bdpt, AgreesWithPathTracerUnderAnEnvironmentMap) {

@@ -127,6 +127,16 @@ TEST(PathRepresentation, DensitiesWeightsAndContributionsWithSpecularVertices) {
     checkPaths(test::specularBoxScene());
 }
 
+TEST(PathRepresentation, DensitiesWeightsAndContributionsThroughAbsorbingMedia) {
+    // A tinted glass sphere and a tinted glass box: f(x) must carry the edges' transmittance.
+    SceneData s = test::specularBoxScene();
+    s.materials[3].hasVolume = true;
+    s.materials[3].attenuationColor = Rgb(0.2f, 0.5f, 0.9f);
+    s.materials[3].attenuationDistance = 0.3f;
+    s.meshes.push_back(test::box({-0.2f, 0.8f, -0.6f}, {0.3f, 1.3f, -0.1f}, 3, false));
+    checkPaths(std::move(s));
+}
+
 TEST(PathRepresentation, DensitiesWeightsAndContributionsWithPunctualLightsAndEnvironment) {
     SceneData s = test::specularBoxScene();
     PunctualLightDesc point;

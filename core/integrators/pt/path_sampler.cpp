@@ -5,28 +5,12 @@
 #include "bsdf.h"
 #include "bsdfs/bound_bsdf.h"
 #include "integrators/pt/film_sink.h"
+#include "medium.h"
 #include "render_scene.h"
 
 namespace partita {
 
 namespace {
-
-Rgb beerLambert(Rgb sigmaA, float distance) {
-    if (isBlack(sigmaA)) return Rgb(1.0f);
-    return {std::exp(-sigmaA.x * distance), std::exp(-sigmaA.y * distance),
-            std::exp(-sigmaA.z * distance)};
-}
-
-/// Absorption coefficient of a KHR_materials_volume: attenuationColor is the colour white light
-/// has after travelling attenuationDistance, so sigma_a = -ln(c) / d.
-Rgb absorptionOf(const Material& m) {
-    if (!m.hasVolume || !std::isfinite(m.attenuationDistance) || m.attenuationDistance <= 0)
-        return Rgb(0.0f);
-    Rgb s;
-    for (int k = 0; k < 3; ++k)
-        s[k] = -std::log(std::max(m.attenuationColor[k], 1e-6f)) / m.attenuationDistance;
-    return s;
-}
 
 /// State carried from one vertex of the camera path to the next.
 struct PathState {
