@@ -306,6 +306,7 @@ class Scene:
         self.must_see = []  # mesh names that must cover part of the image
         self.max_light_fraction = 0.02  # share of the image that may show an emitter directly
         self.open_glass = []  # transmissive meshes that are deliberately not closed
+        self.point_lights = []  # (name, position, intensity): KHR_lights_punctual point lights
 
     def texture(self, png):
         self.images.append(png)
@@ -416,6 +417,16 @@ class Scene:
             "bufferViews": views,
             "buffers": [{"uri": self.name + ".bin", "byteLength": len(blob)}],
         }
+        if self.point_lights:
+            # Each light hangs on a node of its own, placed by translation.
+            doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+                {"name": name, "type": "point", "color": [1.0, 1.0, 1.0],
+                 "intensity": clean(intensity)} for name, _, intensity in self.point_lights]}}
+            for i, (name, pos, _) in enumerate(self.point_lights):
+                nodes.append({"name": name, "translation": [clean(c) for c in pos],
+                              "extensions": {"KHR_lights_punctual": {"light": i}}})
+            doc["scenes"][0]["nodes"] = list(range(len(nodes)))
+            self.extensions.add("KHR_lights_punctual")
         if images:
             doc["images"] = images
             doc["samplers"] = [{"magFilter": 9728, "minFilter": 9987,
@@ -511,6 +522,10 @@ CB_TALL = [
 
 
 def cornell_shell(s, strength):
+    return cornell_walls(s, strength)
+
+
+def cornell_walls(s, strength):
     """The box: white floor/ceiling/back, red left, green right; the floor, ceiling and side walls
     run on past the open front to a white wall behind the camera so that no light escapes."""
     white = s.material("white", base=WHITE)
@@ -522,10 +537,11 @@ def cornell_shell(s, strength):
               "back": s.mesh("back_wall", white), "front": s.mesh("front_wall", white),
               "left": s.mesh("left_wall", red), "right": s.mesh("right_wall", green)},
              (lo[0], lo[1], lo[2]), (hi[0], hi[1], hi[2]))
-    lamp = s.mesh("light", light(s, strength))
-    y = 548.8 - 0.5  # half a millimetre below the ceiling
-    add_polygon(lamp, [cb(343, y, 227), cb(343, y, 332), cb(213, y, 332), cb(213, y, 227)],
-                (0, -1, 0))
+    if strength is not None:
+        lamp = s.mesh("light", light(s, strength))
+        y = 548.8 - 0.5  # half a millimetre below the ceiling
+        add_polygon(lamp, [cb(343, y, 227), cb(343, y, 332), cb(213, y, 332), cb(213, y, 227)],
+                    (0, -1, 0))
     s.look_at(cb(278, 273, -800), cb(278, 273, 0), 39.3)
     return white
 
@@ -559,6 +575,19 @@ def scene_cornell_glass():
     add_sphere(s.mesh("mirror_sphere", mirror(s)), (-0.42, r + 0.001, -0.38), r)
     add_sphere(s.mesh("glass_sphere", glass(s)), (0.42, r + 0.001, 0.28), r)
     s.must_see = ["mirror_sphere", "glass_sphere", "light"]
+    return s
+
+
+def scene_cornell_point():
+    """The Cornell box lit by one point light above a glass sphere: the sphere focuses it into an
+    LSSDE caustic on the floor, which a path tracer cannot sample (a delta light behind a
+    specular chain) and light tracing / BDPT can."""
+    s = Scene("cornell-point")
+    cornell_walls(s, None)
+    r = 0.33
+    add_sphere(s.mesh("glass_sphere", glass(s)), (0.0, r + 0.001, -0.05), r)
+    s.point_lights.append(("point_light", (0.0, 1.45, -0.05), 1.5))
+    s.must_see = ["glass_sphere", "floor", "back_wall"]
     return s
 
 
@@ -761,6 +790,7 @@ def scene_pool():
 SCENES = {
     "cornell": scene_cornell,
     "cornell-glass": scene_cornell_glass,
+    "cornell-point": scene_cornell_point,
     "door-ajar": scene_door_ajar,
     "bathroom": scene_bathroom,
     "pool": scene_pool,
@@ -873,6 +903,7 @@ def check_scene(path, scene):
     used = set()
     for m in doc.get("materials", []):
         used.update(m.get("extensions", {}))
+    used.update(doc.get("extensions", {}))  # document-level: KHR_lights_punctual
     if used != set(doc.get("extensionsUsed", [])):
         errors.append("extensionsUsed %s != used %s" % (doc.get("extensionsUsed"), sorted(used)))
 

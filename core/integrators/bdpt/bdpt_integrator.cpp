@@ -13,6 +13,7 @@
 #include "path/random_walk.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
+#include "splat_buffer.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -33,21 +34,6 @@ struct TileSplats {
     std::vector<uint32_t> sampleStarts;
 };
 
-/// Adds `value` at raster position r with the tent filter of radius one pixel that pt's camera
-/// rays are drawn from: the up to four pixels whose tents cover r get (1-|dx|)(1-|dy|) of it.
-void splatTent(Film& film, Vec2f r, PathType type, Rgb value) {
-    float fx = r.x - 0.5f, fy = r.y - 0.5f;
-    int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-    float wx1 = fx - float(x0), wy1 = fy - float(y0);
-    for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) {
-            int x = x0 + dx, y = y0 + dy;
-            if (x < 0 || y < 0 || x >= film.width() || y >= film.height()) continue;
-            float w = (dx ? wx1 : 1 - wx1) * (dy ? wy1 : 1 - wy1);
-            if (w > 0) film.addSample(x, y, type, value * w);
-        }
-}
-
 class BdptPasses : public SamplePassRenderer {
   public:
     BdptPasses(const RenderContext& ctx, const BdptSettings& settings)
@@ -55,6 +41,7 @@ class BdptPasses : public SamplePassRenderer {
           settings_(settings),
           cameraFilm_(ctx.settings.width, ctx.settings.height),
           splatFilm_(ctx.settings.width, ctx.settings.height),
+          splatBuffer_(ctx.settings.width, ctx.settings.height),
           tiles_(size_t(cameraFilm_.tilesX()) * cameraFilm_.tilesY()) {
         // Scattering vertices <= maxDepth: a camera subpath may end on an emitter one vertex
         // further (s = 0), a light subpath needs at most maxDepth surface vertices.
@@ -157,19 +144,23 @@ class BdptPasses : public SamplePassRenderer {
 
     /// The pass's splats, sample by sample and within a sample tile by tile: the same order
     /// whatever the threads did and however the budget was split into passes.
+    /// A group per sample index (splat_buffer.h: accurate float sums).
     void addSplats(SampleRange range) {
-        for (uint64_t i = 0; i < range.count(); ++i)
+        for (uint64_t i = 0; i < range.count(); ++i) {
             for (const TileSplats& tile : tiles_)
                 for (uint32_t k = tile.sampleStarts[i]; k < tile.sampleStarts[i + 1]; ++k) {
                     const Splat& sp = tile.splats[k];
-                    splatTent(splatFilm_, sp.raster, sp.type, sp.value);
+                    splatBuffer_.addTent(sp.raster, sp.type, sp.value);
                 }
+            splatBuffer_.flushInto(splatFilm_);
+        }
     }
 
     const RenderContext& ctx_;
     BdptSettings settings_;
     WalkSettings cameraWalk_, lightWalk_;
     Film cameraFilm_, splatFilm_;
+    SplatBuffer splatBuffer_;
     std::vector<TileSplats> tiles_;
     std::atomic<uint64_t> rays_{0};
 };

@@ -1,0 +1,63 @@
+#include "splat_buffer.h"
+
+#include <array>
+#include <cmath>
+
+#include "film.h"
+
+namespace partita {
+
+void SplatBuffer::addTent(Vec2f r, PathType type, Rgb value) {
+    float fx = r.x - 0.5f, fy = r.y - 0.5f;
+    int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+    float wx1 = fx - float(x0), wy1 = fy - float(y0);
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            int x = x0 + dx, y = y0 + dy;
+            if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
+            float w = (dx ? wx1 : 1 - wx1) * (dy ? wy1 : 1 - wy1);
+            if (w > 0)
+                splats_.push_back({uint32_t(y) * uint32_t(width_) + uint32_t(x), type, value * w});
+        }
+}
+
+void SplatBuffer::flushInto(Film& film) {
+    if (splats_.empty()) return;
+    // Stable counting sort by pixel.
+    size_t pixels = size_t(width_) * size_t(height_);
+    starts_.assign(pixels + 1, 0);
+    for (const PixelSplat& s : splats_) ++starts_[s.pixel + 1];
+    for (size_t p = 0; p < pixels; ++p) starts_[p + 1] += starts_[p];
+    sorted_.resize(splats_.size());
+    {
+        std::vector<uint32_t>& next = starts_;  // advanced while scattering, restored below
+        for (const PixelSplat& s : splats_) sorted_[next[s.pixel]++] = s;
+        for (size_t p = pixels; p > 0; --p) next[p] = next[p - 1];
+        next[0] = 0;
+    }
+    // Per pixel, per type (in order of first appearance), a double sum; one film add each.
+    struct TypeSum {
+        PathType type;
+        std::array<double, 3> sum;
+    };
+    std::vector<TypeSum> sums;
+    for (size_t p = 0; p < pixels; ++p) {
+        uint32_t begin = starts_[p], end = starts_[p + 1];
+        if (begin == end) continue;
+        sums.clear();
+        for (uint32_t i = begin; i < end; ++i) {
+            const PixelSplat& s = sorted_[i];
+            TypeSum* t = nullptr;
+            for (TypeSum& candidate : sums)
+                if (candidate.type == s.type) t = &candidate;
+            if (!t) t = &sums.emplace_back(TypeSum{s.type, {0, 0, 0}});
+            for (int k = 0; k < 3; ++k) t->sum[size_t(k)] += double(s.value[k]);
+        }
+        int x = int(p % size_t(width_)), y = int(p / size_t(width_));
+        for (const TypeSum& t : sums)
+            film.addSample(x, y, t.type, Rgb(float(t.sum[0]), float(t.sum[1]), float(t.sum[2])));
+    }
+    splats_.clear();
+}
+
+}  // namespace partita
