@@ -17,6 +17,8 @@ struct ServiceLimits {
     int maxQueuedJobs = 1000;
     int maxWatchersPerJob = 64;
     int maxDepth = 1024;
+    int64_t maxJobMemoryBytes = 0;  // largest memory estimate of one job (job_memory.h); 0: none
+    int64_t maxStoreBytes = 0;      // store size beyond which uploads are refused; 0: none
 
     /// The same limits in the core's terms, for partita::validateSettings.
     RenderLimits renderLimits() const;

@@ -10,6 +10,7 @@
 #include "algorithm.h"
 #include "gltf/resource_resolver.h"
 #include "scene_source.h"
+#include "text.h"
 
 namespace partita::server {
 
@@ -94,13 +95,15 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     out.algorithm = spec.algorithm().empty() ? "pt" : spec.algorithm();
     const auto* entry = AlgorithmRegistry::instance().find(out.algorithm);
     if (!entry)
-        return invalid("unknown algorithm '" + out.algorithm +
+        return invalid("unknown algorithm '" + quoteInput(out.algorithm) +
                        "' (this server has: " + algorithmList() + ")");
 
     RenderSettings& s = out.settings;
     s = RenderSettings{};
     if (spec.camera().size() > 256) return invalid("the camera name is longer than 256 characters");
     if (spec.label().size() > 1024) return invalid("the label is longer than 1024 characters");
+    if (spec.scene_file().size() > 255)
+        return invalid("the scene file name is longer than 255 characters");
     s.cameraName = spec.camera();
 
     if (spec.has_width()) s.width = spec.width();
@@ -169,6 +172,11 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty())
         return invalid(err);
     return grpc::Status::OK;
+}
+
+std::string sceneLabel(const pb::JobSpec& spec) {
+    if (spec.scene().has_scene_name()) return spec.scene().scene_name();
+    return spec.scene_file().empty() ? "upload" : spec.scene_file();
 }
 
 pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec) {
