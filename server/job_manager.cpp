@@ -60,14 +60,10 @@ pb::Job fromStored(const StoredJob& s) {
 JobManager::JobManager(JobStore& store, const SceneSource& scenes, const ServiceLimits& limits,
                        int threads, int maxJobs)
     : store_(store), scenes_(scenes), limits_(limits), maxJobs_(maxJobs), pool_(threads) {
-    // Running jobs together may use three quarters of the machine, or one job's limit when that
-    // was set higher: a job waits in the queue until it fits next to the running ones.
-    if (limits_.maxJobMemoryBytes > 0)
-        memoryPool_ =
-            std::max<uint64_t>(uint64_t(limits_.maxJobMemoryBytes), physicalMemoryBytes() / 4 * 3);
-    persist_ = [this](const Job& job, const pb::Job& next, const std::string& note) {
-        store_.update(toStored(next, job.sequence()), note);
-    };
+    // Running jobs together stay within the total (never below one job's limit, so that any
+    // accepted job can run): a job waits in the queue until it fits next to the running ones.
+    if (limits_.maxTotalJobMemoryBytes > 0)
+        memoryPool_ = uint64_t(std::max(limits_.maxTotalJobMemoryBytes, limits_.maxJobMemoryBytes));
 }
 
 JobManager::~JobManager() { shutdown(); }
