@@ -3,9 +3,9 @@
 #include <google/protobuf/field_mask.pb.h>
 #include <google/protobuf/util/field_mask_util.h>
 
+#include <spdlog/fmt/fmt.h>
 #include <cmath>
 #include <set>
-#include <sstream>
 
 #include "algorithm.h"
 #include "gltf/resource_resolver.h"
@@ -23,11 +23,8 @@ grpc::Status exhausted(const std::string& message) {
     return {grpc::StatusCode::RESOURCE_EXHAUSTED, message};
 }
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
+/// The shortest decimal that reads back as v: "65536", "1048576", "0.5" (never "1.04858e+06").
+std::string num(double v) { return fmt::format("{}", v); }
 
 std::string algorithmList() {
     std::string names;

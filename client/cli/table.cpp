@@ -56,4 +56,14 @@ std::string formatNumber(double value) {
     return buf;
 }
 
+std::string formatCount(double value) {
+    if (std::isnan(value)) return "-";
+    char buf[64];
+    if (std::isfinite(value) && value == std::floor(value) && std::fabs(value) < 1e15)
+        std::snprintf(buf, sizeof buf, "%.0f", value);
+    else
+        std::snprintf(buf, sizeof buf, "%.10g", value);
+    return buf;
+}
+
 }  // namespace partita::cli
