@@ -118,7 +118,8 @@ TEST(CliNewUser, CtrlCDuringRenderCancelsTheJob) {
     Daemon daemon;
     TempDir dir;
     const std::string cli = PARTITA_CLI_PATH, s = " --server " + daemon.address();
-    // Job control on, so that the background render takes SIGINT like a foreground one.
+    // Job control on, so that the background render takes SIGINT like a foreground one. A large
+    // image: its render takes a moment to stop, so a CLI that returns at once is caught.
     RunResult r =
         shell("set -m\n" + cli + s + " render cornell --width 64 --height 48 --seconds 60 --out " +
               q(dir / "x.exr") +
