@@ -233,6 +233,10 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
         return {grpc::StatusCode::INTERNAL,
                 std::string("the job could not be stored: ") + e.what()};
     }
+    // Logged before a runner can take it, so that "queued" comes before "loading".
+    spdlog::info("{} queued: {} on '{}', priority {}, memory estimate {}", job->tag(),
+                 quoteInput(validated.algorithm), quoteInput(sceneLabel(spec), 200),
+                 spec.priority(), humanBytes(double(memory.bytes)));
     {
         std::lock_guard lock(mutex_);
         reserved_.erase(id);
@@ -242,9 +246,6 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
         queue_.insert(job);
     }
     cv_.notify_all();
-    spdlog::info("{} queued: {} on '{}', priority {}, memory estimate {}", job->tag(),
-                 quoteInput(validated.algorithm), quoteInput(sceneLabel(spec), 200),
-                 spec.priority(), humanBytes(double(memory.bytes)));
     out = job->snapshot();
     return grpc::Status::OK;
 }
