@@ -153,6 +153,11 @@ void Job::publishFrame(LayeredImage image, bool final) {
         if (w.previews) w.watcher->onFrame(frame);
 }
 
+void Job::releasePreviewFrame() {
+    std::lock_guard lock(mutex_);
+    if (latestFrame_ && !latestFrame_->isFinal()) latestFrame_.reset();
+}
+
 void Job::keepFinalFrameOnDisk(const std::filesystem::path& resultExr) {
     std::lock_guard lock(mutex_);
     uint64_t sequence =

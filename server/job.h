@@ -79,6 +79,10 @@ class Job {
     void publishProgress(const RenderProgress& progress);
     /// A new preview (or, with final, the result image).
     void publishFrame(LayeredImage image, bool final);
+    /// Lets go of the latest preview frame before the final image is written: one dense copy of
+    /// every layer fewer at the job's memory peak (job_memory.h). Watchers still get the final
+    /// frame when it is published; one joining in between gets the state first, then that frame.
+    void releasePreviewFrame();
     /// Replaces the in-memory final frame by one read back from the result file when asked for,
     /// so that finished jobs hold no images in memory.
     void keepFinalFrameOnDisk(const std::filesystem::path& resultExr);

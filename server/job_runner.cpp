@@ -185,6 +185,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         JobObserver observer(job, persist);
         RenderResult result =
             runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        job.releasePreviewFrame();
         writeResults(job, ctx, v, result);
         double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
