@@ -64,6 +64,9 @@ JobManager::JobManager(JobStore& store, const SceneSource& scenes, const Service
     // accepted job can run): a job waits in the queue until it fits next to the running ones.
     if (limits_.maxTotalJobMemoryBytes > 0)
         memoryPool_ = uint64_t(std::max(limits_.maxTotalJobMemoryBytes, limits_.maxJobMemoryBytes));
+    persist_ = [this](const Job& job, const pb::Job& next, const std::string& note) {
+        store_.update(toStored(next, job.sequence()), note);
+    };
 }
 
 JobManager::~JobManager() { shutdown(); }

@@ -98,6 +98,7 @@ TEST(Table, CountsPrintAsPlainNumbers) {
 TEST(Errors, StatusCodesAndOneLine) {
     EXPECT_EQ(statusCodeName(grpc::StatusCode::INVALID_ARGUMENT), "INVALID_ARGUMENT");
     EXPECT_EQ(oneLine("a\nb  c\n"), "a b c");
+    EXPECT_EQ(oneLine("x\x1b[2Jy"), "x?[2Jy") << "no terminal escapes from a server's message";
     try {
         throwStatus(grpc::Status(grpc::StatusCode::NOT_FOUND, "no job 'x'"), "watch job x");
         FAIL();
