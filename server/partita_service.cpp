@@ -127,10 +127,19 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* PartitaService::WatchJob(Context* c,
     if (status.ok()) status = parseRequest(*in, request);
     std::shared_ptr<Job> job;
     if (status.ok() && !(job = jobs_.find(request.job_id()))) status = unknownJob(request.job_id());
+    if (status.ok() && openWatches_.fetch_add(1) >= limits_.maxWatchStreams) {
+        openWatches_.fetch_sub(1);
+        status = {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                  "this server already has " + std::to_string(limits_.maxWatchStreams) +
+                      " open watch streams, its limit (--max-watch-streams)"};
+    }
     if (!status.ok()) return new FailedStream(outcome(c, "WatchJob", status));
     auto session = std::make_shared<WatchSession>(job->id(), request.raw_previews(), executor_);
     JobWatcher* key = session.get();
-    auto* reactor = session->makeReactor([job, key] { job->removeWatcher(key); });
+    auto* reactor = session->makeReactor([this, job, key] {
+        job->removeWatcher(key);
+        openWatches_.fetch_sub(1);
+    });
     if (grpc::Status s = job->addWatcher(session, request.previews(), limits_.maxWatchersPerJob);
         !s.ok())
         session->onClose(outcome(c, "WatchJob", s));

@@ -8,6 +8,8 @@
 // messages are bounded in length.
 #pragma once
 
+#include <atomic>
+
 #include "auth.h"
 #include "executor.h"
 #include "job_manager.h"
@@ -68,6 +70,7 @@ class PartitaService final : public RawPartitaService {
     const TokenAuth& auth_;
     Executor& executor_;
     RejectLog rejects_;
+    std::atomic<int> openWatches_{0};  // WatchJob streams of all jobs, against maxWatchStreams
 };
 
 }  // namespace partita::server

@@ -81,6 +81,9 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         ->capture_default_str();
     app.add_option("--max-watchers", o.limits.maxWatchersPerJob, "most watchers of one job")
         ->capture_default_str();
+    app.add_option("--max-watch-streams", o.limits.maxWatchStreams,
+                   "most open WatchJob streams of all jobs together")
+        ->capture_default_str();
     app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")
         ->capture_default_str();
     app.add_option("--max-job-memory", jobMemoryMb,
@@ -128,6 +131,7 @@ std::string finalizeServerOptions(ServerOptions& o) {
     if (!(l.maxSeconds > 0)) return "--max-seconds must be > 0";
     if (l.maxQueuedJobs < 1) return "--max-queued must be >= 1";
     if (l.maxWatchersPerJob < 1) return "--max-watchers must be >= 1";
+    if (l.maxWatchStreams < 1) return "--max-watch-streams must be >= 1";
     if (l.maxDepth < 1) return "--max-depth must be >= 1";
     if (o.store.empty()) return "--store must name a folder";
     // The jobs that render at once share the machine: each may have a share of 3/4 of it.

@@ -128,6 +128,24 @@ TEST(ServiceResources, WatcherLimitHoldsForFinishedJobsToo) {
     EXPECT_TRUE(accepted);
 }
 
+TEST(ServiceResources, WatchStreamsOfAllJobsTogetherAreBounded) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-watch-streams", "2"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    Submitted a = submit(*stub, sceneSpec("cornell-glass", 160, 120, 4));
+    Submitted b = submit(*stub, sceneSpec("cornell-glass", 160, 120, 4, 2));
+    ASSERT_TRUE(a.status.ok() && b.status.ok());
+    ASSERT_EQ(waitForEnd(*stub, a.id, 60s).state(), pb::JOB_STATE_DONE);
+    ASSERT_EQ(waitForEnd(*stub, b.id, 60s).state(), pb::JOB_STATE_DONE);
+    StalledWatcher first(*stub, a.id), second(*stub, b.id);
+    ASSERT_TRUE(first.firstEvent && second.firstEvent);
+    WatchLog third = watch(*stub, a.id);
+    EXPECT_EQ(third.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(third.status.error_message().find("--max-watch-streams"), std::string::npos)
+        << third.status.error_message();
+}
+
 TEST(ServiceResources, StoreSizeLimitRefusesNewUploads) {
     TempDir store;
     Daemon daemon(store.path(), {"--max-store-mb", "1"});
