@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "text.h"
+
 namespace partita::server {
 
 namespace {
@@ -29,6 +31,10 @@ bool allowed(pb::JobState from, pb::JobState to) {
 }
 
 constexpr double kProgressIntervalSeconds = 0.25;
+
+/// Errors and notes echo loader messages, which may quote the (hostile) scene: keep them valid
+/// UTF-8, without control characters, and bounded.
+std::string boundedText(const std::string& s) { return s.empty() ? s : quoteInput(s, 2000); }
 
 }  // namespace
 
@@ -94,9 +100,9 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
     if (next == pb::JOB_STATE_QUEUED) {
         // Back in the queue: nothing failed. Why it was re-queued is a note, not an error.
         updated.clear_error();
-        updated.set_note(note);
+        updated.set_note(boundedText(note));
     } else {
-        updated.set_error(error);
+        updated.set_error(boundedText(error));
     }
     int64_t now = nowUnixMs();
     if (next == pb::JOB_STATE_LOADING) {
@@ -147,6 +153,11 @@ void Job::publishFrame(LayeredImage image, bool final) {
         if (w.previews) w.watcher->onFrame(frame);
 }
 
+void Job::releasePreviewFrame() {
+    std::lock_guard lock(mutex_);
+    if (latestFrame_ && !latestFrame_->isFinal()) latestFrame_.reset();
+}
+
 void Job::keepFinalFrameOnDisk(const std::filesystem::path& resultExr) {
     std::lock_guard lock(mutex_);
     uint64_t sequence =
@@ -163,10 +174,11 @@ void Job::requestCancel(CancelReason reason) {
 grpc::Status Job::addWatcher(std::shared_ptr<JobWatcher> watcher, bool previews, int maxWatchers) {
     std::lock_guard lock(mutex_);
     bool finished = isTerminal(record_.state());
-    if (!finished && int(watchers_.size()) >= maxWatchers)
+    if (int(open_.size()) >= maxWatchers)
         return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-                "job " + id_ + " already has " + std::to_string(watchers_.size()) +
+                "job " + id_ + " already has " + std::to_string(open_.size()) +
                     " watchers, the limit of this server (--max-watchers)"};
+    open_.insert(watcher.get());
     watcher->onState(record_);
     if (previews && latestFrame_) watcher->onFrame(latestFrame_);
     if (!finished) watchers_.push_back({std::move(watcher), previews});
@@ -175,6 +187,7 @@ grpc::Status Job::addWatcher(std::shared_ptr<JobWatcher> watcher, bool previews,
 
 void Job::removeWatcher(const JobWatcher* watcher) {
     std::lock_guard lock(mutex_);
+    open_.erase(watcher);
     std::erase_if(watchers_, [&](const WatcherEntry& e) { return e.watcher.get() == watcher; });
 }
 

@@ -19,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,10 @@ class Job {
     void publishProgress(const RenderProgress& progress);
     /// A new preview (or, with final, the result image).
     void publishFrame(LayeredImage image, bool final);
+    /// Lets go of the latest preview frame before the final image is written: one dense copy of
+    /// every layer fewer at the job's memory peak (job_memory.h). Watchers still get the final
+    /// frame when it is published; one joining in between gets the state first, then that frame.
+    void releasePreviewFrame();
     /// Replaces the in-memory final frame by one read back from the result file when asked for,
     /// so that finished jobs hold no images in memory.
     void keepFinalFrameOnDisk(const std::filesystem::path& resultExr);
@@ -89,7 +94,8 @@ class Job {
     bool cancelRequested() const { return cancel_.load(); }
 
     /// Adds a watcher and immediately gives it the current state and the latest frame. A watcher
-    /// of a finished job gets those and nothing more. RESOURCE_EXHAUSTED beyond `maxWatchers`.
+    /// of a finished job gets those and nothing more. RESOURCE_EXHAUSTED beyond `maxWatchers`
+    /// open streams, whatever the job's state: a watcher counts until removeWatcher.
     grpc::Status addWatcher(std::shared_ptr<JobWatcher> watcher, bool previews, int maxWatchers);
     void removeWatcher(const JobWatcher* watcher);
     /// Ends every watch with `status`.
@@ -109,7 +115,8 @@ class Job {
     const pb::JobSpec spec_;
     mutable std::mutex mutex_;
     pb::Job record_;
-    std::vector<WatcherEntry> watchers_;
+    std::vector<WatcherEntry> watchers_;  // those that still get events
+    std::set<const JobWatcher*> open_;    // every accepted watcher whose stream is open
     std::shared_ptr<const PreviewFrameData> latestFrame_;
     uint64_t frameCount_ = 0;
     std::chrono::steady_clock::time_point lastProgressSent_{};

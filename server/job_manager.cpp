@@ -6,7 +6,8 @@
 #include <random>
 
 #include "job_runner.h"
-#include "validation.h"
+#include "store_usage.h"
+#include "text.h"
 
 namespace partita::server {
 
@@ -39,8 +40,9 @@ pb::Job fromStored(const StoredJob& s) {
     if (!j.mutable_spec()->ParseFromString(s.spec))
         spdlog::error("[job {}] its stored spec is damaged; it will fail if it runs", s.id);
     j.set_state(pb::JobState_IsValid(s.state) ? pb::JobState(s.state) : pb::JOB_STATE_FAILED);
-    j.set_error(s.error);
-    j.set_note(s.note);
+    // A store written before errors were made valid UTF-8 may hold raw bytes: escape them.
+    j.set_error(toValidUtf8(s.error));
+    j.set_note(toValidUtf8(s.note));
     j.set_created_unix_ms(s.createdMs);
     j.set_started_unix_ms(s.startedMs);
     j.set_finished_unix_ms(s.finishedMs);
@@ -58,6 +60,10 @@ pb::Job fromStored(const StoredJob& s) {
 JobManager::JobManager(JobStore& store, const SceneSource& scenes, const ServiceLimits& limits,
                        int threads, int maxJobs)
     : store_(store), scenes_(scenes), limits_(limits), maxJobs_(maxJobs), pool_(threads) {
+    // Running jobs together stay within the total (never below one job's limit, so that any
+    // accepted job can run): a job waits in the queue until it fits next to the running ones.
+    if (limits_.maxTotalJobMemoryBytes > 0)
+        memoryPool_ = uint64_t(std::max(limits_.maxTotalJobMemoryBytes, limits_.maxJobMemoryBytes));
     persist_ = [this](const Job& job, const pb::Job& next, const std::string& note) {
         store_.update(toStored(next, job.sequence()), note);
     };
@@ -83,6 +89,7 @@ void JobManager::recover() {
             ++requeued;
         }
         if (state == pb::JOB_STATE_QUEUED) {
+            memory_[job.get()] = estimateStored(*job);
             queue_.insert(job);
             ++queued;
         } else {
@@ -140,7 +147,56 @@ std::string JobManager::newId() const {
     }
 }
 
-grpc::Status JobManager::submit(const pb::JobSpec& spec, pb::Job& out) {
+MemoryEstimate JobManager::estimate(const pb::JobSpec&, const ValidatedSpec& v,
+                                    uint64_t sceneBytes) const {
+    return estimateJobMemory(v.algorithm, v.settings, sceneBytes, pool_.threadCount());
+}
+
+uint64_t JobManager::estimateStored(const Job& job) const {
+    ValidatedSpec v;
+    if (!settingsFromSpec(job.spec(), limits_, v).ok()) return 0;  // it fails when it runs
+    uint64_t sceneBytes = 0;
+    std::error_code ec;
+    if (job.spec().scene().has_scene_name())
+        sceneBytes = scenes_.sceneBytes(job.spec().scene().scene_name());
+    else if (auto size = fs::file_size(store_.jobDir(job.id()) / kUploadFile, ec); !ec)
+        sceneBytes = size;
+    return estimate(job.spec(), v, sceneBytes).bytes;
+}
+
+grpc::Status JobManager::reserveStore(uint64_t bytes) {
+    if (limits_.maxStoreBytes <= 0) return grpc::Status::OK;
+    uint64_t used = folderBytes(store_.dir());
+    if (used + pendingUploadBytes_ + bytes > uint64_t(limits_.maxStoreBytes))
+        return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                "the job store is full: it holds " +
+                    humanBytes(double(used + pendingUploadBytes_)) + " and this upload has " +
+                    humanBytes(double(bytes)) + ", over its limit of " +
+                    humanBytes(double(limits_.maxStoreBytes)) +
+                    " (--max-store-mb); delete finished jobs or wait for queued ones"};
+    pendingUploadBytes_ += bytes;
+    return grpc::Status::OK;
+}
+
+bool JobManager::headFits() const {
+    if (memoryPool_ == 0 || running_.empty()) return true;
+    auto it = memory_.find(queue_.begin()->get());
+    uint64_t need = it == memory_.end() ? 0 : it->second;
+    return runningMemory_ + need <= memoryPool_;
+}
+
+grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& validated,
+                                pb::Job& out) {
+    const bool upload = !spec.scene().has_scene_name();
+    const uint64_t uploadBytes = upload ? SceneSource::uploadBytes(spec.scene()) : 0;
+    const MemoryEstimate memory = estimate(
+        spec, validated, upload ? uploadBytes : scenes_.sceneBytes(spec.scene().scene_name()));
+    if (limits_.maxJobMemoryBytes > 0 && memory.bytes > uint64_t(limits_.maxJobMemoryBytes))
+        return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                "the job needs an estimated " + humanBytes(double(memory.bytes)) + " of memory (" +
+                    memory.breakdown + "), over this server's limit of " +
+                    humanBytes(double(limits_.maxJobMemoryBytes)) +
+                    " per job (--max-job-memory); lower the resolution or max_type_layers"};
     std::string id;
     {
         std::lock_guard lock(mutex_);
@@ -149,6 +205,8 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, pb::Job& out) {
             return {grpc::StatusCode::RESOURCE_EXHAUSTED,
                     "the queue is full: " + std::to_string(queue_.size()) +
                         " jobs are waiting, the limit of this server (--max-queued)"};
+        if (upload)
+            if (grpc::Status s = reserveStore(uploadBytes); !s.ok()) return s;
         id = newId();
         reserved_.insert(id);
     }
@@ -173,21 +231,24 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, pb::Job& out) {
         fs::remove_all(store_.jobDir(id), ec);
         std::lock_guard lock(mutex_);
         reserved_.erase(id);
+        pendingUploadBytes_ -= uploadBytes;
         spdlog::error("[job {}] could not be stored: {}", id, e.what());
         return {grpc::StatusCode::INTERNAL,
                 std::string("the job could not be stored: ") + e.what()};
     }
+    // Logged before a runner can take it, so that "queued" comes before "loading".
+    spdlog::info("{} queued: {} on '{}', priority {}, memory estimate {}", job->tag(),
+                 quoteInput(validated.algorithm), quoteInput(sceneLabel(spec), 200),
+                 spec.priority(), humanBytes(double(memory.bytes)));
     {
         std::lock_guard lock(mutex_);
         reserved_.erase(id);
+        pendingUploadBytes_ -= uploadBytes;
         jobs_[id] = job;
+        memory_[job.get()] = memory.bytes;
         queue_.insert(job);
     }
-    cv_.notify_one();
-    const pb::SceneSource& scene = spec.scene();
-    spdlog::info("{} queued: {} on '{}', priority {}", job->tag(),
-                 spec.algorithm().empty() ? "pt" : spec.algorithm(),
-                 scene.has_scene_name() ? scene.scene_name() : "upload", spec.priority());
+    cv_.notify_all();
     out = job->snapshot();
     return grpc::Status::OK;
 }
@@ -201,9 +262,10 @@ std::shared_ptr<Job> JobManager::find(const std::string& id) const {
 grpc::Status JobManager::cancel(const std::string& id, pb::Job& out) {
     std::lock_guard lock(mutex_);
     auto it = jobs_.find(id);
-    if (it == jobs_.end()) return {grpc::StatusCode::NOT_FOUND, "no job '" + id + "'"};
+    if (it == jobs_.end()) return {grpc::StatusCode::NOT_FOUND, "no job '" + quoteInput(id) + "'"};
     const auto& job = it->second;
     if (queue_.erase(job)) {
+        memory_.erase(job.get());
         try {
             job->transition(pb::JOB_STATE_CANCELLED, "", persist_, "cancelled while queued");
         } catch (const std::exception& e) {
@@ -232,13 +294,23 @@ grpc::Status JobManager::remove(const std::string& id) {
     {
         std::lock_guard lock(mutex_);
         auto it = jobs_.find(id);
-        if (it == jobs_.end()) return {grpc::StatusCode::NOT_FOUND, "no job '" + id + "'"};
+        if (it == jobs_.end())
+            return {grpc::StatusCode::NOT_FOUND, "no job '" + quoteInput(id) + "'"};
         pb::JobState state = it->second->state();
-        if (!isTerminal(state))
+        bool cancelling = it->second->cancelReason() == CancelReason::User;
+        if (!isTerminal(state) && !cancelling)
             return {grpc::StatusCode::FAILED_PRECONDITION,
                     "job " + id + " is " + stateName(state) + ": cancel it before deleting it"};
         job = it->second;
         jobs_.erase(it);
+        if (!isTerminal(state)) {
+            // Cancelled but still stopping: its runner removes the record when the render ends.
+            deleting_.insert(id);
+            job->closeWatchers({grpc::StatusCode::NOT_FOUND, "job " + id + " was deleted"});
+            spdlog::info("{} deleted while cancelling; removed from the store once it stops",
+                         job->tag());
+            return grpc::Status::OK;
+        }
     }
     job->closeWatchers({grpc::StatusCode::NOT_FOUND, "job " + id + " was deleted"});
     try {
@@ -269,21 +341,39 @@ std::vector<pb::Job> JobManager::list(const std::string& label, const std::set<i
     return out;
 }
 
+void JobManager::removeDeleted(const Job& job) {
+    try {
+        store_.remove(job.id());
+        spdlog::info("{} removed from the store (deleted while cancelling)", job.tag());
+    } catch (const std::exception& e) {
+        spdlog::error("{} could not be deleted from the store: {}", job.tag(), e.what());
+    }
+}
+
 void JobManager::runnerLoop() {
     RunContext context{store_, scenes_, limits_, pool_};
     for (;;) {
         std::shared_ptr<Job> job;
         {
             std::unique_lock lock(mutex_);
-            cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+            cv_.wait(lock, [&] { return stopping_ || (!queue_.empty() && headFits()); });
             if (stopping_) return;
             job = *queue_.begin();
             queue_.erase(queue_.begin());
             running_.insert(job);
+            runningMemory_ += memory_[job.get()];
         }
         runJob(*job, context, persist_);
-        std::lock_guard lock(mutex_);
-        running_.erase(job);
+        bool deleted = false;
+        {
+            std::lock_guard lock(mutex_);
+            running_.erase(job);
+            runningMemory_ -= memory_[job.get()];
+            memory_.erase(job.get());
+            deleted = deleting_.erase(job->id()) > 0;
+        }
+        cv_.notify_all();  // its memory is free for the next job
+        if (deleted) removeDeleted(*job);
     }
 }
 

@@ -17,10 +17,12 @@
 #include <vector>
 
 #include "job.h"
+#include "job_memory.h"
 #include "job_store.h"
 #include "scene_source.h"
 #include "service_limits.h"
 #include "thread_pool.h"
+#include "validation.h"
 
 namespace partita::server {
 
@@ -37,12 +39,16 @@ class JobManager {
     void shutdown();
 
     /// Queues a validated job. `spec` carries the scene (an upload is written to the store
-    /// first). RESOURCE_EXHAUSTED when the queue is full, UNAVAILABLE while shutting down.
-    grpc::Status submit(const pb::JobSpec& spec, pb::Job& out);
+    /// first). RESOURCE_EXHAUSTED when the queue is full, when the job's memory estimate is over
+    /// --max-job-memory, or when an upload would take the store over --max-store-mb;
+    /// UNAVAILABLE while shutting down.
+    grpc::Status submit(const pb::JobSpec& spec, const ValidatedSpec& validated, pb::Job& out);
     std::shared_ptr<Job> find(const std::string& id) const;
     /// A queued job is cancelled at once; a running one is flagged and ends shortly.
     grpc::Status cancel(const std::string& id, pb::Job& out);
     /// Deletes a finished job and its files; FAILED_PRECONDITION while it is queued or running.
+    /// A job whose cancel was requested but that has not stopped yet is deleted too: it is gone
+    /// from the listing at once, and its record and files are removed when its render stops.
     grpc::Status remove(const std::string& id);
     /// Jobs in submission order, optionally only those with `label` / in `states`.
     std::vector<pb::Job> list(const std::string& label, const std::set<int>& states) const;
@@ -63,6 +69,17 @@ class JobManager {
 
     void recover();
     void runnerLoop();
+    /// The memory estimate of a job (its scene looked up in the store or the scene root).
+    MemoryEstimate estimate(const pb::JobSpec& spec, const ValidatedSpec& v,
+                            uint64_t sceneBytes) const;
+    uint64_t estimateStored(const Job& job) const;
+    /// OK, or RESOURCE_EXHAUSTED when an upload of `bytes` would take the store over its limit.
+    /// Reserves the bytes (in pendingUploadBytes_) when OK; with mutex_ held.
+    grpc::Status reserveStore(uint64_t bytes);
+    /// With mutex_ held: whether the first queued job fits next to the running ones.
+    bool headFits() const;
+    /// Removes a job deleted while it was cancelling, once its runner is done with it.
+    void removeDeleted(const Job& job);
     std::string newId() const;  // with mutex_ held
 
     JobStore& store_;
@@ -78,6 +95,11 @@ class JobManager {
     std::set<std::shared_ptr<Job>, QueueOrder> queue_;
     std::set<std::shared_ptr<Job>> running_;  // taken from the queue by a runner
     std::set<std::string> reserved_;          // ids of submissions being stored
+    std::map<const Job*, uint64_t> memory_;   // memory estimate of each queued or running job
+    uint64_t runningMemory_ = 0;              // the sum over running_
+    uint64_t memoryPool_ = 0;                 // what running jobs may use together (0: no limit)
+    uint64_t pendingUploadBytes_ = 0;         // uploads being written to the store
+    std::set<std::string> deleting_;          // deleted while cancelling: removed when they stop
     bool stopping_ = false, started_ = false;
     std::vector<std::thread> runners_;
 };

@@ -11,6 +11,7 @@
 #include "image_io.h"
 #include "render_scene.h"
 #include "renderer.h"
+#include "text.h"
 #include "validation.h"
 
 namespace partita::server {
@@ -89,7 +90,7 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
     nlohmann::ordered_json j;
     j["job_id"] = job.id();
     j["label"] = job.spec().label();
-    j["scene"] = job.spec().scene().has_scene_name() ? job.spec().scene().scene_name() : "upload";
+    j["scene"] = sceneLabel(job.spec());
     j["algorithm"] = v.algorithm;
     j["parameters"] = {{"width", s.width},
                        {"height", s.height},
@@ -171,9 +172,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
     try {
         checkCancel();
         if (!job.transition(pb::JOB_STATE_LOADING, "", persist)) return;
-        const pb::SceneSource& source = job.spec().scene();
-        spdlog::info("{} loading scene '{}'", job.tag(),
-                     source.has_scene_name() ? source.scene_name() : "upload");
+        spdlog::info("{} loading scene '{}'", job.tag(), quoteInput(sceneLabel(job.spec()), 200));
         ValidatedSpec v;
         if (grpc::Status s = settingsFromSpec(job.spec(), ctx.limits, v); !s.ok())
             throw std::runtime_error(s.error_message());
@@ -186,6 +185,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         JobObserver observer(job, persist);
         RenderResult result =
             runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        job.releasePreviewFrame();
         writeResults(job, ctx, v, result);
         double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

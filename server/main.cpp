@@ -18,8 +18,10 @@
 #include "auth.h"
 #include "executor.h"
 #include "job_manager.h"
+#include "job_memory.h"
 #include "job_store.h"
 #include "partita_service.h"
+#include "protobuf_log.h"
 #include "scene_source.h"
 #include "server_options.h"
 
@@ -44,6 +46,8 @@ std::shared_ptr<grpc::ServerCredentials> credentials(const ServerOptions& o) {
         {readText(o.tlsKey, "TLS key"), readText(o.tlsCert, "TLS certificate")});
     return grpc::SslServerCredentials(ssl);
 }
+
+std::string limitText(int64_t bytes) { return bytes > 0 ? humanBytes(double(bytes)) : "none"; }
 
 int run(const ServerOptions& options, const sigset_t& signals) {
     TokenAuth auth =
@@ -74,11 +78,12 @@ int run(const ServerOptions& options, const sigset_t& signals) {
 
     spdlog::info(
         "partitad {} listening on {} (port {}){}{}; store '{}', scene root '{}', {} threads, {} "
-        "jobs at once",
+        "jobs at once, job memory limit {}, store limit {}",
         PARTITA_VERSION, options.listen, port, options.tlsCert.empty() ? "" : ", TLS",
         auth.enabled() ? ", token required" : "", options.store.string(),
         scenes.root().empty() ? "(none)" : scenes.root().string(), manager.threads(),
-        manager.maxJobs());
+        manager.maxJobs(), limitText(options.limits.maxJobMemoryBytes),
+        limitText(options.limits.maxStoreBytes));
 
     int sig = 0;
     while (sigwait(&signals, &sig) != 0) {
@@ -120,6 +125,7 @@ int main(int argc, char** argv) {
     spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
     spdlog::set_level(spdlog::level::from_str(options.logLevel));
     spdlog::flush_on(spdlog::level::info);
+    routeProtobufLogToSpdlog();
     try {
         return run(options, signals);
     } catch (const std::exception& e) {

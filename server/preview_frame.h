@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <grpcpp/support/byte_buffer.h>
+
 #include "image.h"
 #include "proto.h"
 
@@ -32,6 +34,11 @@ class PreviewFrameData {
     /// Throws std::runtime_error when a frame on disk cannot be read.
     pb::PreviewFrame encode(bool raw) const;
 
+    /// The frame as a serialized JobEvent of job `jobId` (encode(raw), then wire.h). Watchers
+    /// sending the same frame at the same time share one buffer, so a stalled watcher holds no
+    /// bytes of its own beyond a reference. Implemented in preview_frame_wire.cpp.
+    std::shared_ptr<const grpc::ByteBuffer> wireEvent(const std::string& jobId, bool raw) const;
+
   private:
     std::shared_ptr<const LayeredImage> image() const;  // loads a disk-backed frame
 
@@ -41,6 +48,8 @@ class PreviewFrameData {
     std::filesystem::path exr_;
     mutable std::mutex mutex_;
     mutable std::optional<std::vector<std::string>> pngs_;  // cached encoding (in-memory frames)
+    // The serialized event while some watcher still sends it, [0] PNG only, [1] with raw pixels.
+    mutable std::weak_ptr<const grpc::ByteBuffer> wire_[2];
 };
 
 }  // namespace partita::server

@@ -2,11 +2,13 @@
 
 #include <fstream>
 
+#include "wire.h"
+
 namespace partita::server {
 
 namespace {
 
-class ResultStream : public grpc::ServerWriteReactor<pb::ResultChunk> {
+class ResultStream : public grpc::ServerWriteReactor<grpc::ByteBuffer> {
   public:
     ResultStream(const std::filesystem::path& file, const grpc::Status& status) {
         if (!status.ok()) {
@@ -49,19 +51,22 @@ class ResultStream : public grpc::ServerWriteReactor<pb::ResultChunk> {
         chunk_.set_data(std::move(data));
         offset_ += chunk_.data().size();
         started_ = true;  // an empty file still gets one (empty) chunk
-        StartWrite(&chunk_);
+        wire_ = serialize(chunk_);
+        chunk_.Clear();
+        StartWrite(&wire_);
     }
 
     std::ifstream in_;
     uint64_t total_ = 0, offset_ = 0;
     bool started_ = false;
     pb::ResultChunk chunk_;
+    grpc::ByteBuffer wire_;
 };
 
 }  // namespace
 
-grpc::ServerWriteReactor<pb::ResultChunk>* makeResultStream(const std::filesystem::path& file,
-                                                            const grpc::Status& status) {
+grpc::ServerWriteReactor<grpc::ByteBuffer>* makeResultStream(const std::filesystem::path& file,
+                                                             const grpc::Status& status) {
     return new ResultStream(file, status);
 }
 

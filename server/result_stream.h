@@ -14,7 +14,8 @@ constexpr size_t kResultChunkBytes = size_t(1) << 20;
 
 /// A reactor that sends `file`; it finishes with `status` right away when that is not OK, and
 /// with INTERNAL when the file cannot be read. Deletes itself when done.
-grpc::ServerWriteReactor<pb::ResultChunk>* makeResultStream(const std::filesystem::path& file,
-                                                            const grpc::Status& status);
+/// Chunks are serialized ResultChunk messages (the service's methods are raw).
+grpc::ServerWriteReactor<grpc::ByteBuffer>* makeResultStream(const std::filesystem::path& file,
+                                                             const grpc::Status& status);
 
 }  // namespace partita::server

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <map>
 
+#include "text.h"
+
 namespace partita::server {
 
 namespace fs = std::filesystem;
@@ -48,7 +50,8 @@ fs::path SceneSource::find(const std::string& name, grpc::StatusCode& code,
     }
     if (root_.empty()) {
         code = grpc::StatusCode::NOT_FOUND;
-        error = "no scene named '" + name + "': this server has no scene root (--scene-root)";
+        error = "no scene named '" + quoteInput(name) +
+                "': this server has no scene root (--scene-root)";
         return {};
     }
     const fs::path candidates[] = {root_ / name / (name + ".gltf"), root_ / name / (name + ".glb"),
@@ -60,14 +63,14 @@ fs::path SceneSource::find(const std::string& name, grpc::StatusCode& code,
         fs::path real = fs::canonical(candidate, ec);
         if (ec || !isInside(real, root_)) {
             code = grpc::StatusCode::INVALID_ARGUMENT;
-            error = "scene '" + name + "' resolves outside the scene root; refused";
+            error = "scene '" + quoteInput(name) + "' resolves outside the scene root; refused";
             return {};
         }
         if (!fs::is_regular_file(real, ec)) continue;
         return real;
     }
     code = grpc::StatusCode::NOT_FOUND;
-    error = "no scene named '" + name + "' under the scene root";
+    error = "no scene named '" + quoteInput(name) + "' under the scene root";
     return {};
 }
 
@@ -90,7 +93,8 @@ std::vector<SceneEntry> SceneSource::list() const {
     for (const auto& entry : fs::directory_iterator(root_, ec)) {
         std::string n = entry.path().filename().string();
         if (entry.path().extension() == ".glb") n = entry.path().stem().string();
-        names.push_back(n);
+        // A name that is not UTF-8 could not be asked for (requests are UTF-8): leave it out.
+        if (isValidUtf8(n)) names.push_back(n);
     }
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());
@@ -110,6 +114,19 @@ SceneData SceneSource::loadNamed(const std::string& name) const {
     fs::path file = resolve(name, code, error);
     if (file.empty()) throw SceneLoadError(error);
     return loadGltfFile(file);
+}
+
+uint64_t SceneSource::sceneBytes(const std::string& name) const {
+    grpc::StatusCode code;
+    std::string error;
+    fs::path file = find(name, code, error);
+    if (file.empty()) return 0;
+    std::error_code ec;
+    if (file.parent_path() == root_) return fs::file_size(file, ec);
+    uint64_t total = 0;  // <root>/<name>/: the scene file and its resources beside it
+    for (const auto& entry : fs::directory_iterator(file.parent_path(), ec))
+        if (entry.is_regular_file(ec)) total += entry.file_size(ec);
+    return total;
 }
 
 uint64_t SceneSource::uploadBytes(const pb::SceneSource& source) {

@@ -45,6 +45,9 @@ class SceneSource {
     /// Loads an uploaded scene (a SceneSource with glb or gltf set). Throws SceneLoadError.
     static SceneData loadUpload(const pb::SceneSource& upload, uint64_t maxBytes);
 
+    /// Bytes of a named scene's files (its folder, or its .glb); 0 when there is no such scene.
+    uint64_t sceneBytes(const std::string& name) const;
+
     /// Total bytes of an upload (the glTF/GLB and every resource).
     static uint64_t uploadBytes(const pb::SceneSource& source);
 

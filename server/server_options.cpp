@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <cstring>
 
+#include "job_memory.h"
+#include "store_usage.h"
+
 namespace partita::server {
 
 namespace fs = std::filesystem;
@@ -44,6 +47,8 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     CLI::App app{"partitad: the Partita render daemon (gRPC service partita.v1.Partita)"};
     app.set_version_flag("--version", PARTITA_VERSION);
     double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
+    double jobMemoryMb = -1, totalMemoryMb = -1,
+           storeMb = -1;  // -1: the defaults finalizeServerOptions computes
     app.add_option("--listen", o.listen, "address to listen on, host:port (port 0: any free port)")
         ->capture_default_str();
     app.add_option("--store", o.store, "job store folder (SQLite database + one folder per job)")
@@ -76,8 +81,20 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         ->capture_default_str();
     app.add_option("--max-watchers", o.limits.maxWatchersPerJob, "most watchers of one job")
         ->capture_default_str();
+    app.add_option("--max-watch-streams", o.limits.maxWatchStreams,
+                   "most open WatchJob streams of all jobs together")
+        ->capture_default_str();
     app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")
         ->capture_default_str();
+    app.add_option("--max-job-memory", jobMemoryMb,
+                   "largest memory estimate of one job, MiB (default: 3/4 of the machine's "
+                   "memory over --max-jobs; 0: no limit)");
+    app.add_option("--max-total-memory", totalMemoryMb,
+                   "memory estimates of the running jobs together, MiB: a job waits in the queue "
+                   "until it fits (default: 3/4 of the machine's memory; 0: no limit)");
+    app.add_option("--max-store-mb", storeMb,
+                   "store size beyond which uploads are refused, MiB (default: half the file "
+                   "system's capacity; 0: no limit)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -91,6 +108,17 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.maxUploadBytes = int64_t(uploadMb * (1 << 20));
+    for (double mb : {jobMemoryMb, totalMemoryMb, storeMb}) {
+        if (!(mb >= 0 || mb == -1)) {
+            std::fprintf(stderr,
+                         "partitad: --max-job-memory, --max-total-memory and --max-store-mb must "
+                         "be >= 0\n");
+            return 2;
+        }
+    }
+    o.limits.maxTotalJobMemoryBytes = totalMemoryMb < 0 ? -1 : int64_t(totalMemoryMb * (1 << 20));
+    o.limits.maxJobMemoryBytes = jobMemoryMb < 0 ? -1 : int64_t(jobMemoryMb * (1 << 20));
+    o.limits.maxStoreBytes = storeMb < 0 ? -1 : int64_t(storeMb * (1 << 20));
     return -1;
 }
 
@@ -103,8 +131,15 @@ std::string finalizeServerOptions(ServerOptions& o) {
     if (!(l.maxSeconds > 0)) return "--max-seconds must be > 0";
     if (l.maxQueuedJobs < 1) return "--max-queued must be >= 1";
     if (l.maxWatchersPerJob < 1) return "--max-watchers must be >= 1";
+    if (l.maxWatchStreams < 1) return "--max-watch-streams must be >= 1";
     if (l.maxDepth < 1) return "--max-depth must be >= 1";
     if (o.store.empty()) return "--store must name a folder";
+    // The jobs that render at once share the machine: each may have a share of 3/4 of it.
+    if (o.limits.maxJobMemoryBytes < 0)
+        o.limits.maxJobMemoryBytes = int64_t(physicalMemoryBytes() / 4 * 3 / uint64_t(o.maxJobs));
+    if (o.limits.maxTotalJobMemoryBytes < 0)
+        o.limits.maxTotalJobMemoryBytes = int64_t(physicalMemoryBytes() / 4 * 3);
+    if (o.limits.maxStoreBytes < 0) o.limits.maxStoreBytes = int64_t(defaultStoreLimit(o.store));
     if (o.tlsCert.empty() != o.tlsKey.empty()) return "--tls-cert and --tls-key go together";
     bool tls = !o.tlsCert.empty(), token = !o.tokenFile.empty();
     if (!isLoopbackAddress(o.listen) && !(tls && token) && !o.insecure)

@@ -16,7 +16,11 @@ struct ServiceLimits {
     int64_t maxUploadBytes = int64_t(256) << 20;
     int maxQueuedJobs = 1000;
     int maxWatchersPerJob = 64;
+    int maxWatchStreams = 1024;  // open WatchJob streams of all jobs together
     int maxDepth = 1024;
+    int64_t maxJobMemoryBytes = 0;  // largest memory estimate of one job (job_memory.h); 0: none
+    int64_t maxTotalJobMemoryBytes = 0;  // what running jobs may use together; 0: no limit
+    int64_t maxStoreBytes = 0;           // store size beyond which uploads are refused; 0: none
 
     /// The same limits in the core's terms, for partita::validateSettings.
     RenderLimits renderLimits() const;

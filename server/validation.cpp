@@ -3,13 +3,14 @@
 #include <google/protobuf/field_mask.pb.h>
 #include <google/protobuf/util/field_mask_util.h>
 
+#include <spdlog/fmt/fmt.h>
 #include <cmath>
 #include <set>
-#include <sstream>
 
 #include "algorithm.h"
 #include "gltf/resource_resolver.h"
 #include "scene_source.h"
+#include "text.h"
 
 namespace partita::server {
 
@@ -22,11 +23,8 @@ grpc::Status exhausted(const std::string& message) {
     return {grpc::StatusCode::RESOURCE_EXHAUSTED, message};
 }
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
+/// The shortest decimal that reads back as v: "65536", "1048576", "0.5" (never "1.04858e+06").
+std::string num(double v) { return fmt::format("{}", v); }
 
 std::string algorithmList() {
     std::string names;
@@ -94,13 +92,15 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     out.algorithm = spec.algorithm().empty() ? "pt" : spec.algorithm();
     const auto* entry = AlgorithmRegistry::instance().find(out.algorithm);
     if (!entry)
-        return invalid("unknown algorithm '" + out.algorithm +
+        return invalid("unknown algorithm '" + quoteInput(out.algorithm) +
                        "' (this server has: " + algorithmList() + ")");
 
     RenderSettings& s = out.settings;
     s = RenderSettings{};
     if (spec.camera().size() > 256) return invalid("the camera name is longer than 256 characters");
     if (spec.label().size() > 1024) return invalid("the label is longer than 1024 characters");
+    if (spec.scene_file().size() > 255)
+        return invalid("the scene file name is longer than 255 characters");
     s.cameraName = spec.camera();
 
     if (spec.has_width()) s.width = spec.width();
@@ -169,6 +169,11 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty())
         return invalid(err);
     return grpc::Status::OK;
+}
+
+std::string sceneLabel(const pb::JobSpec& spec) {
+    if (spec.scene().has_scene_name()) return spec.scene().scene_name();
+    return spec.scene_file().empty() ? "upload" : spec.scene_file();
 }
 
 pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec) {

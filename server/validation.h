@@ -30,6 +30,10 @@ grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limit
 grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
                               ValidatedSpec& out);
 
+/// The scene as listings, logs and metadata name it: the scene name, an upload's file name
+/// (scene_file), or "upload".
+std::string sceneLabel(const pb::JobSpec& spec);
+
 /// The spec as stored and echoed back: the scene bytes replaced by nothing (an upload keeps its
 /// oneof case and its resource names, so clients can still tell it was an upload).
 pb::JobSpec withoutSceneBytes(const pb::JobSpec& spec);

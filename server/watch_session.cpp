@@ -2,9 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include "wire.h"
+
 namespace partita::server {
 
-class WatchSession::StreamReactor : public grpc::ServerWriteReactor<pb::JobEvent> {
+class WatchSession::StreamReactor : public Reactor {
   public:
     StreamReactor(std::shared_ptr<WatchSession> session, std::function<void()> onDone)
         : session_(std::move(session)), onDone_(std::move(onDone)) {}
@@ -110,10 +112,12 @@ void WatchSession::pump() {
 
     // Holding the busy token: nobody else writes, finishes or lets OnDone run meanwhile.
     current_.Clear();
+    currentFrame_.reset();
+    const grpc::ByteBuffer* message = &current_;
     if (item.kind == Pending::Frame) {
         try {
-            current_.set_job_id(jobId_);
-            *current_.mutable_preview() = item.frame->encode(raw_);
+            currentFrame_ = item.frame->wireEvent(jobId_, raw_);
+            message = currentFrame_.get();
         } catch (const std::exception& e) {
             spdlog::warn("[job {}] preview frame {} not sent: {}", jobId_, item.frame->sequence(),
                          e.what());
@@ -123,18 +127,19 @@ void WatchSession::pump() {
             return;
         }
     } else {
-        current_ = std::move(item.event);
+        current_ = serialize(item.event);
     }
     if (item.terminal) {
         lock.lock();
         terminalSent_ = true;
         lock.unlock();
     }
-    reactor->StartWrite(&current_);
+    reactor->StartWrite(message);
 }
 
 void WatchSession::writeDone(bool ok) {
     std::lock_guard lock(mutex_);
+    currentFrame_.reset();  // let the frame's buffer go once every watcher has sent it
     if (!ok) cancelled_ = true;
     // Still busy: the next pump continues (or finishes) the stream.
     executor_.post([self = shared_from_this()] { self->pump(); });

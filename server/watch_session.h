@@ -6,6 +6,9 @@
 // frames and never holds back the render or other watchers. The final frame is never dropped.
 // The stream ends with OK after the terminal state has been sent.
 //
+// Memory: a stalled watcher holds at most one message in flight and one pending frame, and a
+// frame's serialized bytes are shared by all watchers sending it (PreviewFrameData::wireEvent).
+//
 // Lifetime: the session is shared (job, executor tasks, reactor); the reactor is deleted by gRPC
 // in OnDone, after which the session never touches it. StartWrite and Finish are only called by
 // whoever holds the session's single "busy" token, and never under the session's lock.
@@ -26,7 +29,7 @@ namespace partita::server {
 
 class WatchSession : public JobWatcher, public std::enable_shared_from_this<WatchSession> {
   public:
-    using Reactor = grpc::ServerWriteReactor<pb::JobEvent>;
+    using Reactor = grpc::ServerWriteReactor<grpc::ByteBuffer>;  // serialized JobEvents
 
     WatchSession(std::string jobId, bool raw, Executor& executor);
 
@@ -66,7 +69,10 @@ class WatchSession : public JobWatcher, public std::enable_shared_from_this<Watc
     bool cancelled_ = false;  // the client went away
     bool terminalSent_ = false;
     std::optional<grpc::Status> closeStatus_;
-    pb::JobEvent current_;  // the message being written (owned by the busy holder)
+    // The message being written (owned by the busy holder): a state or progress event of its
+    // own, or a preview frame's buffer shared with the other watchers sending it.
+    grpc::ByteBuffer current_;
+    std::shared_ptr<const grpc::ByteBuffer> currentFrame_;
 };
 
 }  // namespace partita::server

@@ -1,6 +1,8 @@
 #include "cli/connection.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "cli/file_util.h"
 
@@ -21,8 +23,34 @@ std::string readTokenFile(const std::string& path) {
     return text.substr(b, text.find_last_not_of(ws) - b + 1);
 }
 
+std::string withDefaultPort(const std::string& address) {
+    if (address.empty() || address.find("://") != std::string::npos ||
+        address.rfind("unix:", 0) == 0 || address.rfind("unix-abstract:", 0) == 0 ||
+        address.rfind("dns:", 0) == 0 || address.rfind("ipv4:", 0) == 0 ||
+        address.rfind("ipv6:", 0) == 0)
+        return address;
+    std::string out;
+    const size_t colons = size_t(std::count(address.begin(), address.end(), ':'));
+    if (address.front() == '[') {
+        if (address.back() != ']') return address;  // "[v6]:port" already
+        out = address;
+    } else if (colons == 0) {
+        out = address;
+    } else if (colons > 1) {  // a bare IPv6 address
+        out.append("[").append(address).append("]");
+    } else {
+        return address;
+    }
+    out.append(":").append(std::to_string(kDefaultPort));
+    return out;
+}
+
 std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts) {
     grpc::ChannelArguments args;
+    // Retry a refused connection quickly while waiting for a daemon that is starting.
+    args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
+    args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
+    args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 500);
     // Results and raw preview frames can be large; the server limits what it sends.
     args.SetMaxReceiveMessageSize(-1);
     args.SetMaxSendMessageSize(-1);
@@ -43,10 +71,10 @@ std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const Ser
 }
 
 Connection::Connection(const std::string& address, const ServerOptions& opts)
-    : address_(address),
+    : address_(withDefaultPort(address)),
       token_(opts.tokenFile.empty() ? std::string() : readTokenFile(opts.tokenFile)),
       tls_(!opts.tlsCa.empty()),
-      channel_(makeChannel(address, opts)),
+      channel_(makeChannel(address_, opts)),
       stub_(partita::v1::Partita::NewStub(channel_)) {}
 
 void Connection::fail(const grpc::Status& status, const std::string& what) const {
@@ -58,6 +86,19 @@ void Connection::fail(const grpc::Status& status, const std::string& what) const
         throwStatus(hinted, what, address_);
     }
     throwStatus(status, what, address_);
+}
+
+void Connection::waitForServer(double seconds, bool announce) {
+    auto after = [](double s) {
+        return std::chrono::system_clock::now() + std::chrono::milliseconds(int64_t(s * 1000));
+    };
+    if (channel_->WaitForConnected(after(0.25))) return;
+    if (announce) {
+        std::fprintf(stderr, "partita: waiting for the server at %s (up to %.0f s)...\n",
+                     address_.c_str(), seconds);
+        std::fflush(stderr);
+    }
+    channel_->WaitForConnected(after(seconds));
 }
 
 void Connection::prepare(grpc::ClientContext& context, double deadlineSeconds) const {

@@ -25,6 +25,13 @@ struct ServerOptions {
 /// is missing or empty.
 std::string readTokenFile(const std::string& path);
 
+/// partitad's default port, used when --server names only a host.
+constexpr int kDefaultPort = 50051;
+
+/// "HOST" and "[v6]" get ":50051"; "HOST:PORT", "[v6]:PORT", "unix:..." and URIs stay as they
+/// are (without this, gRPC dials "localhost" on port 443).
+std::string withDefaultPort(const std::string& address);
+
 std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts);
 
 class Connection {
@@ -37,6 +44,11 @@ class Connection {
     const std::string& address() const { return address_; }
     const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
     Stub& stub() { return *stub_; }
+
+    /// Waits (at most `seconds`) until the channel is connected, saying on stderr that it waits
+    /// when the server does not answer at once (a daemon started a moment ago with '&' is not
+    /// listening yet). Returns without error either way: the first call reports the failure.
+    void waitForServer(double seconds, bool announce);
 
     /// Adds the token and, when deadlineSeconds > 0, a deadline.
     void prepare(grpc::ClientContext& context, double deadlineSeconds = 0) const;

@@ -53,7 +53,8 @@ std::string oneLine(const std::string& s) {
         }
         if (space) out += ' ';
         space = false;
-        out += c;
+        // Other control characters (terminal escapes in a server's message) print as '?'.
+        out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
     }
     return out;
 }

@@ -1,5 +1,8 @@
 #include "cli/job_spec.h"
 
+#include <climits>
+#include <limits>
+
 #include "cli/errors.h"
 #include "render_settings.h"
 
@@ -77,7 +80,12 @@ std::string validateJobSpec(const partita::v1::JobSpec& spec) {
         }
         s.budget = spec.budget().amount();
     }
-    return validateSettings(s);
+    // Only what is malformed here: the size, budget and depth limits are the server's own, read
+    // from GetServerInfo (Session::checkLimits), not the core's defaults.
+    RenderLimits unlimited;
+    unlimited.maxWidth = unlimited.maxHeight = unlimited.maxDepth = INT_MAX;
+    unlimited.maxSamplesPerPixel = unlimited.maxSeconds = std::numeric_limits<double>::max();
+    return validateSettings(s, unlimited);
 }
 
 }  // namespace partita::cli

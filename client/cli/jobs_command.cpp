@@ -17,7 +17,7 @@ std::string sceneText(const partita::v1::JobSpec& spec) {
             return spec.scene().scene_name();
         case partita::v1::SceneSource::kGlb:
         case partita::v1::SceneSource::kGltf:
-            return "upload";
+            return spec.scene_file().empty() ? "upload" : spec.scene_file();
         default:
             return "-";
     }

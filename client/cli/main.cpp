@@ -13,11 +13,16 @@
 #include "cli/errors.h"
 #include "cli/signals.h"
 
+#ifndef PARTITA_VERSION
+#define PARTITA_VERSION "0.0.0"
+#endif
+
 using namespace partita::cli;
 
 int main(int argc, char** argv) {
     CLI::App app{"partita: submit, watch and compare renders on a Partita render service"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", PARTITA_VERSION);
     app.fallthrough();
     GlobalOptions global;
     app.add_option("--server", global.server.server,

@@ -32,6 +32,7 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
             "command returns)");
     partita::v1::JobSpec spec = makeJobSpec(sub, a.flags);
     *spec.mutable_scene() = loadSceneSource(scene);  // reads and checks files before anything runs
+    if (scene.isFile) spec.set_scene_file(fs::path(scene.text).filename().string());
 
     const fs::path out =
         a.out.empty() ? fs::path(safeFileName(sceneStem(scene)) + ".exr") : fs::path(a.out);
@@ -40,6 +41,7 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
     watch.progressBar = !global.quiet;
     // State lines only on a terminal: in logs and scripts, a failure stays one line.
     watch.announceStates = !global.quiet && ProgressBar::stderrIsTerminal();
+    watch.announceDone = !global.quiet;
     if (!a.previews.empty() && !a.detach) {
         std::error_code ec;
         fs::create_directories(a.previews, ec);
@@ -51,6 +53,7 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
     Session session(global, a.flags.render.threads);
     Connection& conn = session.connection();
     session.checkAlgorithm(spec.algorithm());
+    session.checkLimits(spec);
     partita::v1::SubmitJobRequest request;
     *request.mutable_spec() = spec;
     const std::string id =
@@ -66,8 +69,12 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
         job = followJob(conn, id, watch);
     } catch (const CliError& e) {
         if (e.exitCode() != 130) throw;
-        cancelJobQuietly(conn, id);
-        throw CliError("interrupted; job " + id + " cancelled", "", 130);
+        // The job is this command's own: cancel it and wait (bounded) until it has stopped, so
+        // that `jobs` never shows it still rendering.
+        partita::v1::Job end = cancelAndWait(conn, id, 10);
+        throw CliError("interrupted; job " + id +
+                           (isTerminal(end.state()) ? " cancelled" : " is being cancelled"),
+                       "", 130);
     }
     requireDone(job);
     ResultFiles files = downloadResults(conn, id, out);

@@ -4,6 +4,7 @@
 // all, downloads each result as DIR/<name1>=<v1>_<name2>=<v2>.exr (+ .png, .json), and prints
 // a table (also written to DIR/sweep.csv) with the parameters, RMSE and relMSE of the combined
 // image against --reference (image_metrics.h) and the render seconds.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -56,11 +57,42 @@ std::vector<SweepAxis> parseAxes(const std::vector<std::string>& sweeps) {
     return axes;
 }
 
+/// Refuses a reference of another size than a sweep point renders (unset sizes take the
+/// server's defaults, RenderSettings'), before anything is submitted.
+void checkReferenceSize(const partita::v1::JobSpec& spec, const LayeredImage& reference,
+                        const std::string& point, const std::string& file) {
+    const RenderSettings defaults;
+    int w = spec.has_width() ? spec.width() : defaults.width;
+    int h = spec.has_height() ? spec.height() : defaults.height;
+    if (w == reference.combined.width && h == reference.combined.height) return;
+    throw CliError("sweep point " + point + " renders " + std::to_string(w) + "x" +
+                   std::to_string(h) + " but the reference " + file + " is " +
+                   std::to_string(reference.combined.width) + "x" +
+                   std::to_string(reference.combined.height) +
+                   ": give --width/--height of the reference, or another reference");
+}
+
+/// Refuses an axis over a parameter the algorithm ignores: every image would be the same.
+void checkAxesMatter(Session& session, const std::string& algorithm,
+                     const std::vector<SweepAxis>& axes) {
+    std::vector<std::string> reads = session.algorithmParameters(algorithm);
+    if (reads.empty()) return;  // the server does not say
+    std::string list;
+    for (const auto& p : reads) list += (list.empty() ? "" : ", ") + p;
+    for (const auto& axis : axes)
+        if (std::find(reads.begin(), reads.end(), axis.name) == reads.end())
+            throw CliError("--sweep " + axis.name + ": algorithm '" + algorithm + "' ignores " +
+                               axis.name + ", so every image would be the same (" + algorithm +
+                               " reads " + list + ")",
+                           "INVALID_ARGUMENT");
+}
+
 int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     const std::vector<SweepAxis> axes = parseAxes(a.sweeps);
     const SceneArgument scene = classifyScene(a.scene);
     partita::v1::JobSpec base = makeJobSpec(sub, a.flags);
     *base.mutable_scene() = loadSceneSource(scene);
+    if (scene.isFile) base.set_scene_file(fs::path(scene.text).filename().string());
     if (base.label().empty()) base.set_label("sweep:" + sceneStem(scene));
 
     LayeredImage reference;
@@ -88,6 +120,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
             }
             if (std::string err = validateJobSpec(c.spec); !err.empty())
                 throw CliError("sweep point " + name + ": " + err);
+            if (!a.reference.empty()) checkReferenceSize(c.spec, reference, name, a.reference);
             c.file = (outDir / (safeFileName(name) + ".exr")).string();
             cells.push_back(std::move(c));
         }
@@ -95,9 +128,13 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     Session session(global, a.flags.render.threads);
     Connection& conn = session.connection();
     session.checkAlgorithm(base.algorithm());
+    checkAxesMatter(session, base.algorithm(), axes);
+    for (const auto& c : cells) session.checkLimits(c.spec);
     auto cancelRest = [&] {
         for (auto& c : cells)
             if (!c.id.empty() && !isTerminal(c.job.state())) cancelJobQuietly(conn, c.id);
+        for (auto& c : cells)
+            if (!c.id.empty() && !isTerminal(c.job.state())) cancelAndWait(conn, c.id, 10);
     };
     try {
         for (auto& c : cells) {
@@ -142,13 +179,15 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
         if (c.job.state() == partita::v1::JOB_STATE_DONE) {
             downloadResults(conn, c.id, c.file);
             if (!a.reference.empty()) {
+                // Sizes were checked before submitting; a mismatch here (a server with other
+                // defaults) is an error too, as in `partita compare`.
                 try {
                     ErrorMetrics m =
                         compareImages(readExrFile(c.file).combined, reference.combined);
                     c.rmse = m.rmse;
                     c.relMse = m.relMse;
-                } catch (const CliError&) {
-                    // A different resolution than the reference: no error to report.
+                } catch (const CliError& e) {
+                    throw CliError(c.file + ": " + e.what() + " (--reference " + a.reference + ")");
                 }
             }
         } else {

@@ -10,11 +10,26 @@ void Table::addRow(std::vector<std::string> cells) {
     rows_.push_back(std::move(cells));
 }
 
+namespace {
+
+/// Text from the server (labels, scene names) may hold terminal escapes: show them as '?'.
+std::vector<std::string> printable(std::vector<std::string> cells) {
+    for (auto& cell : cells)
+        for (char& ch : cell)
+            if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
+    return cells;
+}
+
+}  // namespace
+
 void Table::print(std::FILE* out) const {
-    std::vector<size_t> width(headers_.size());
-    for (size_t c = 0; c < headers_.size(); ++c) {
-        width[c] = headers_[c].size();
-        for (const auto& r : rows_) width[c] = std::max(width[c], r[c].size());
+    const std::vector<std::string> headers = printable(headers_);
+    std::vector<std::vector<std::string>> rows;
+    for (const auto& r : rows_) rows.push_back(printable(r));
+    std::vector<size_t> width(headers.size());
+    for (size_t c = 0; c < headers.size(); ++c) {
+        width[c] = headers[c].size();
+        for (const auto& r : rows) width[c] = std::max(width[c], r[c].size());
     }
     auto line = [&](const std::vector<std::string>& cells) {
         std::string s;
@@ -24,8 +39,8 @@ void Table::print(std::FILE* out) const {
         }
         std::fprintf(out, "%s\n", s.c_str());
     };
-    line(headers_);
-    for (const auto& r : rows_) line(r);
+    line(headers);
+    for (const auto& r : rows) line(r);
     std::fflush(out);
 }
 
@@ -53,6 +68,16 @@ std::string formatNumber(double value) {
     if (std::isnan(value)) return "-";
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", value);
+    return buf;
+}
+
+std::string formatCount(double value) {
+    if (std::isnan(value)) return "-";
+    char buf[64];
+    if (std::isfinite(value) && value == std::floor(value) && std::fabs(value) < 1e15)
+        std::snprintf(buf, sizeof buf, "%.0f", value);
+    else
+        std::snprintf(buf, sizeof buf, "%.10g", value);
     return buf;
 }
 

@@ -24,5 +24,7 @@ class Table {
 
 /// "%.6g", and "-" for a NaN.
 std::string formatNumber(double value);
+/// A count or limit as a plain number: "65536", "1048576", "0.5" (never "1.04858e+06").
+std::string formatCount(double value);
 
 }  // namespace partita::cli

@@ -47,6 +47,15 @@ partita::v1::Job followJob(Connection& connection, const std::string& jobId,
         std::fprintf(stderr, "%s\n", line.c_str());
     };
 
+    // Without a terminal no state lines are printed (a failure stays one line), but a successful
+    // end is still said, so that a log shows how the job ended.
+    auto announceEnd = [&](const partita::v1::Job& job) {
+        if (options.announceStates || !options.announceDone) return;
+        if (job.state() != partita::v1::JOB_STATE_DONE) return;
+        std::fprintf(stderr, "job %s: done in %s\n", jobId.c_str(),
+                     humanDuration(jobSeconds(job)).c_str());
+    };
+
     for (int attempt = 0;; ++attempt) {
         grpc::ClientContext context;
         connection.prepare(context);
@@ -101,7 +110,10 @@ partita::v1::Job followJob(Connection& connection, const std::string& jobId,
         grpc::Status status = reader->Finish();
         if (options.progressBar) bar.finish();
         if (interrupted()) throw CliError("interrupted", "", 130);
-        if (haveState && isTerminal(last.state())) return last;
+        if (haveState && isTerminal(last.state())) {
+            announceEnd(last);
+            return last;
+        }
         if (!status.ok()) connection.fail(status, "watch job " + jobId);
 
         // The stream ended without a final state: look the job up, and watch again if needed.
@@ -111,6 +123,7 @@ partita::v1::Job followJob(Connection& connection, const std::string& jobId,
             connection.call(&Connection::Stub::GetJob, get, "look up job " + jobId);
         if (isTerminal(job.state())) {
             announce(job);
+            announceEnd(job);
             return job;
         }
         if (attempt >= kMaxReconnects)
@@ -126,6 +139,23 @@ void cancelJobQuietly(Connection& connection, const std::string& jobId) {
     request.set_job_id(jobId);
     partita::v1::Job job;
     connection.stub().CancelJob(&context, request, &job);
+}
+
+partita::v1::Job cancelAndWait(Connection& connection, const std::string& jobId, double seconds) {
+    cancelJobQuietly(connection, jobId);
+    partita::v1::Job job;
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 1000));
+    do {
+        grpc::ClientContext context;
+        connection.prepare(context, 5);
+        partita::v1::GetJobRequest get;
+        get.set_job_id(jobId);
+        if (!connection.stub().GetJob(&context, get, &job).ok()) break;
+        if (isTerminal(job.state())) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    } while (std::chrono::steady_clock::now() < deadline);
+    return job;
 }
 
 void requireDone(const partita::v1::Job& job) {

@@ -14,6 +14,7 @@ struct WatchOptions {
                                         // by each new frame
     bool progressBar = true;            // on stderr
     bool announceStates = true;         // "job ID: rendering" lines on stderr
+    bool announceDone = false;          // "job ID: done" at the end even without announceStates
 };
 
 /// Returns the job in its final state (done, failed or cancelled). If the stream breaks off
@@ -27,6 +28,10 @@ void requireDone(const partita::v1::Job& job);
 
 /// Cancels a job, ignoring failures (used when the CLI is interrupted while it owns the job).
 void cancelJobQuietly(Connection& connection, const std::string& jobId);
+
+/// cancelJobQuietly, then waits up to `seconds` for the job to end; returns the job as last
+/// seen (its state is not terminal when the wait ran out or the server could not be asked).
+partita::v1::Job cancelAndWait(Connection& connection, const std::string& jobId, double seconds);
 
 /// Writes each layer of a preview frame as <dir>/<layer>.png (atomically).
 void writePreviewFrame(const std::filesystem::path& dir, const partita::v1::PreviewFrame& frame);

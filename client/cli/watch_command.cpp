@@ -25,6 +25,7 @@ int runWatch(const GlobalOptions& global, const WatchArgs& a) {
     watch.progressBar = !global.quiet;
     // State lines only on a terminal: in logs and scripts, a failure stays one line.
     watch.announceStates = !global.quiet && ProgressBar::stderrIsTerminal();
+    watch.announceDone = !global.quiet;
     if (!a.previews.empty()) {
         std::error_code ec;
         fs::create_directories(a.previews, ec);

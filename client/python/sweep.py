@@ -9,8 +9,9 @@ SCENE is a .gltf/.glb file (uploaded) or a scene name of the server's scene root
 parameters are job parameters: y, radius, k, epsilon, spp, mpp, seconds, max-depth, seed, width,
 height (the defaults, |Y'| x R, are the paper's Figure 8 study). --set fixes others for every
 job (e.g. --set mpp=32 --set width=160). Without --algorithm it renders with "guided" when the
-server offers it, else "pt" -- so the same command works over path-tracer parameters (spp,
-max-depth) today and over |Y'| and R once the guided method exists.
+server offers it, else "pt". A parameter the algorithm ignores (the server says which it
+reads) is refused, since every image would be the same: with "pt", sweep e.g. spp and
+max-depth; |Y'| x R needs the guided method.
 
 The reference is --reference REF.exr, or with --reference-spp N a path-traced ("pt", N spp)
 render of the same scene, resolution and depth made first (saved as DIR/reference.exr).
@@ -179,6 +180,12 @@ def run(args) -> int:
             if algorithm != "guided":
                 print(f"sweep.py: the server has no 'guided' algorithm; sweeping '{algorithm}'",
                       file=sys.stderr)
+        reads = client.algorithm_parameters(algorithm)
+        for flag, name in (("--param1", n1), ("--param2", n2)):
+            if reads and name not in reads:
+                raise UsageError(f"{flag} {name}: algorithm '{algorithm}' ignores {name}, so "
+                                 f"every image would be the same ({algorithm} reads "
+                                 f"{', '.join(reads)})")
         label = args.label or f"sweep.py:{stem}"
         base = {kwargs_name(k): v for k, v in fixed.items()}
 

@@ -101,8 +101,9 @@ TEST(CliRender, DetachThenWatchThenGet) {
         auto w = words(rows[i]);
         if (!w.empty() && w[0] == id) {
             found = true;
-            EXPECT_EQ(w,
-                      (std::vector<std::string>{id, "done", "pt", "upload", "detached", "100%"}));
+            EXPECT_EQ(
+                w, (std::vector<std::string>{id, "done", "pt", "cornell.gltf", "detached", "100%"}))
+                << "an uploaded file is listed by its file name";
         }
     }
     EXPECT_TRUE(found) << jobs.describe();

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "cli/connection.h"
 #include "cli/errors.h"
 #include "cli/exr_reader.h"
 #include "cli/image_metrics.h"
@@ -78,9 +79,26 @@ TEST(JobSpec, ValidatesLikeTheCore) {
     EXPECT_NE(validateJobSpec(spec).find("whole"), std::string::npos);
 }
 
+TEST(Connection, HostWithoutPortGetsTheDaemonsDefaultPort) {
+    EXPECT_EQ(withDefaultPort("localhost"), "localhost:50051");
+    EXPECT_EQ(withDefaultPort("127.0.0.1"), "127.0.0.1:50051");
+    EXPECT_EQ(withDefaultPort("[::1]"), "[::1]:50051");
+    EXPECT_EQ(withDefaultPort("::1"), "[::1]:50051");
+    EXPECT_EQ(withDefaultPort("localhost:7"), "localhost:7");
+    EXPECT_EQ(withDefaultPort("[::1]:7"), "[::1]:7");
+    EXPECT_EQ(withDefaultPort("unix:/tmp/s"), "unix:/tmp/s");
+}
+
+TEST(Table, CountsPrintAsPlainNumbers) {
+    EXPECT_EQ(formatCount(1048576), "1048576");
+    EXPECT_EQ(formatCount(65536), "65536");
+    EXPECT_EQ(formatCount(0.5), "0.5");
+}
+
 TEST(Errors, StatusCodesAndOneLine) {
     EXPECT_EQ(statusCodeName(grpc::StatusCode::INVALID_ARGUMENT), "INVALID_ARGUMENT");
     EXPECT_EQ(oneLine("a\nb  c\n"), "a b c");
+    EXPECT_EQ(oneLine("x\x1b[2Jy"), "x?[2Jy") << "no terminal escapes from a server's message";
     try {
         throwStatus(grpc::Status(grpc::StatusCode::NOT_FOUND, "no job 'x'"), "watch job x");
         FAIL();

@@ -117,7 +117,7 @@ TEST(ServiceRestart, FinishedResultsStayAndQueuedJobsRunAfterRestart) {
     auto stub = second.stub();
     // The finished job: same state, same bytes, and a late watcher still gets its final frame.
     Fetched again = fetch(*stub, done, pb::RESULT_KIND_EXR);
-    ASSERT_TRUE(again.status.ok());
+    ASSERT_TRUE(again.status.ok()) << again.status.error_message() << second.log();
     EXPECT_EQ(again.bytes, doneExr);
     WatchLog log = watch(*stub, done, true, true);
     ASSERT_TRUE(log.status.ok());

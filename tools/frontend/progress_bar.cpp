@@ -56,17 +56,24 @@ void ProgressBar::update(const RenderProgress& p) {
         drawn_ = true;
         return;
     }
+    if (p.done <= 0 && p.ratePerSecond <= 0) return;  // nothing to tell yet
+    char line[256];
+    std::snprintf(line, sizeof line, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
+                  fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+    pendingPlain_ = line;
     auto now = std::chrono::steady_clock::now();
     if (now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
-    std::fprintf(stderr, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
-                 fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+    std::fputs(pendingPlain_.c_str(), stderr);
+    pendingPlain_.clear();
 }
 
 void ProgressBar::finish() {
     std::lock_guard lock(mutex_);
     if (interactive_ && drawn_) std::fprintf(stderr, "\n");
     drawn_ = false;
+    if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), stderr);
+    pendingPlain_.clear();
 }
 
 }  // namespace partita

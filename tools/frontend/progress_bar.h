@@ -1,6 +1,7 @@
 // A terminal progress bar with rate and ETA for the command-line front ends. On a terminal it
-// redraws one line on stderr; otherwise it prints a plain line at most every few seconds, so
-// logs stay readable.
+// redraws one line on stderr; otherwise it prints a plain line when work is first reported
+// done, then at most every 5 s, and the latest one when the work is over (finish), so that a log
+// shows how far it got and never only "0.0% ... ETA ?".
 #pragma once
 
 #include <chrono>
@@ -17,7 +18,7 @@ class ProgressBar {
     static bool stderrIsTerminal();
 
     void update(const RenderProgress& p);
-    /// Ends the bar's line (call once when the work is over).
+    /// Ends the bar's line; without a terminal, prints the latest progress if it was not printed.
     void finish();
 
   private:
@@ -25,6 +26,7 @@ class ProgressBar {
     bool drawn_ = false;
     std::mutex mutex_;
     std::chrono::steady_clock::time_point lastPlain_{};
+    std::string pendingPlain_;  // the latest plain line not printed yet
 };
 
 /// "1.23 M", "456 k" ... for rates and counts.

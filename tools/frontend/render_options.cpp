@@ -1,11 +1,27 @@
 #include "frontend/render_options.h"
 
+#include "algorithm.h"
+
 namespace partita {
+
+namespace {
+
+/// "pt | bdpt": the algorithms this build registers (not the paper's list of planned ones).
+std::string builtAlgorithms() {
+    registerBuiltinAlgorithms();
+    std::string names;
+    for (const auto& n : AlgorithmRegistry::instance().names())
+        names += (names.empty() ? "" : " | ") + n;
+    return names;
+}
+
+}  // namespace
 
 void addRenderOptions(CLI::App& app, RenderOptions& o) {
     RenderSettings& s = o.settings;
     app.add_option("--algorithm", o.algorithm,
-                   "pt | bdpt | mlt | partitioned | guided (those built in)");
+                   builtAlgorithms() + " (those of this build; a server may offer others)")
+        ->capture_default_str();
     auto* spp = app.add_option("--spp", o.spp, "budget: samples per pixel");
     auto* mpp = app.add_option("--mpp", o.mpp, "budget: mutations per pixel");
     auto* sec = app.add_option("--seconds", o.seconds, "budget: wall-clock seconds");

@@ -44,6 +44,8 @@ def job_spec(scene, **params) -> "pb2.JobSpec":
     defaults. Raises ValueError on an unknown or ill-typed parameter."""
     spec = pb2.JobSpec()
     spec.scene.CopyFrom(scene_source(scene))
+    if spec.scene.WhichOneof("source") != "scene_name":
+        spec.scene_file = Path(scene).name  # listings show the file's name, not "upload"
     spec.algorithm = "pt"
     budgets = []
     for raw_name, value in params.items():
@@ -157,6 +159,14 @@ class Client:
 
     def algorithms(self) -> List[str]:
         return [a.name for a in self.server_info().algorithms]
+
+    def algorithm_parameters(self, algorithm: str) -> List[str]:
+        """The parameters (CLI spelling: "spp", "max-depth", "y", ...) that change what
+        `algorithm` renders on this server; empty when the server does not say."""
+        for a in self.server_info().algorithms:
+            if a.name == algorithm:
+                return list(a.parameters)
+        return []
 
     def scenes(self) -> List[str]:
         """Names of the scenes under the server's scene root."""

@@ -89,7 +89,8 @@ class Job:
     @classmethod
     def from_proto(cls, j) -> "Job":
         which = j.spec.scene.WhichOneof("source")
-        scene = j.spec.scene.scene_name if which == "scene_name" else ("upload" if which else "")
+        upload = j.spec.scene_file or "upload"
+        scene = j.spec.scene.scene_name if which == "scene_name" else (upload if which else "")
         return cls(j.id, state_name(j.state), j.spec.algorithm, j.spec.label, scene, j.error,
                    Progress.from_proto(j.progress) if j.HasField("progress") else None,
                    dict(j.stats), j.created_unix_ms, j.started_unix_ms, j.finished_unix_ms,

@@ -69,7 +69,7 @@ class ClientTest(unittest.TestCase):
         info = self.client.job(job)
         self.assertEqual(info.state, "done")
         self.assertEqual(info.label, "py-basic")
-        self.assertEqual(info.scene, "upload")
+        self.assertEqual(info.scene, Path(CORNELL).name)  # an upload keeps its file's name
         self.assertIsNotNone(info.seconds)
         meta = self.client.metadata(job)
         self.assertIsInstance(meta, dict)
@@ -170,6 +170,15 @@ class ClientTest(unittest.TestCase):
             ref = read_exr(out / "reference.exr").layers()["combined"]
             self.assertEqual(ref.shape, (24, 32, 3))
             self.assertTrue((out / "renders" / "spp=2_max-depth=3.exr").is_file())
+
+    def test_sweep_script_refuses_parameters_the_algorithm_ignores(self):
+        cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",
+               self.daemon.address, "--algorithm", "pt", "--param1", "y=8,32",
+               "--param2", "radius=5,10", "--reference-spp", "4"]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn("ignores y", proc.stderr)
 
     def test_sweep_script_bad_input(self):
         cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",

@@ -1,0 +1,38 @@
+// What one job adds to the daemon's memory, estimated before it runs, so that a legal-looking
+// request (8192x8192 with 1024 type layers) is refused instead of getting the daemon killed by the
+// kernel with every running job. An upper estimate from the settings alone, checked against
+// measured peaks (server/README.md "Memory"):
+//
+// - the accumulation film: combined sums (12 B/pixel, tiles padded to 16x16) plus the sparse
+//   per-type blocks (an allowance of 24 B/pixel); algorithms that splat anywhere (MLT and the
+//   methods built on it) keep one film per render thread;
+// - every resolved layer (combined, up to max_type_layers types, "other") is a dense float RGB
+//   image, 12 B/pixel, alive in up to three copies at the peak: the latest preview frame the job
+//   holds for watchers, the final image, and the EXR writer's interleaved buffer; plus one
+//   serialized raw preview shared by raw watchers (12 B/pixel) and its PNGs (~1 B/pixel);
+// - partitions (K images of 12 B/pixel) for the partitioned methods;
+// - the scene: four times its file bytes (parsed arrays, render copies, BVH).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "render_settings.h"
+
+namespace partita::server {
+
+struct MemoryEstimate {
+    uint64_t bytes = 0;
+    std::string breakdown;  // "film 36 B/pixel, 34 layers x 49 B/pixel, scene 1.2 MiB"
+};
+
+MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSettings& settings,
+                                 uint64_t sceneBytes, int renderThreads);
+
+/// "512 KiB", "1.3 GiB".
+std::string humanBytes(double bytes);
+
+/// The machine's physical memory in bytes (0 when unknown).
+uint64_t physicalMemoryBytes();
+
+}  // namespace partita::server

@@ -1,0 +1,57 @@
+#include "reject_log.h"
+
+#include <spdlog/spdlog.h>
+
+#include "text.h"
+
+namespace partita::server {
+
+bool isRejection(grpc::StatusCode code) {
+    return code == grpc::StatusCode::INVALID_ARGUMENT ||
+           code == grpc::StatusCode::UNAUTHENTICATED ||
+           code == grpc::StatusCode::RESOURCE_EXHAUSTED;
+}
+
+std::string codeName(grpc::StatusCode code) {
+    switch (code) {
+        case grpc::StatusCode::INVALID_ARGUMENT:
+            return "INVALID_ARGUMENT";
+        case grpc::StatusCode::UNAUTHENTICATED:
+            return "UNAUTHENTICATED";
+        case grpc::StatusCode::RESOURCE_EXHAUSTED:
+            return "RESOURCE_EXHAUSTED";
+        case grpc::StatusCode::NOT_FOUND:
+            return "NOT_FOUND";
+        case grpc::StatusCode::FAILED_PRECONDITION:
+            return "FAILED_PRECONDITION";
+        default:
+            return "code " + std::to_string(int(code));
+    }
+}
+
+void RejectLog::note(std::string_view method, const std::string& peer, const grpc::Status& status) {
+    if (!isRejection(status.error_code())) return;
+    long dropped = 0;
+    {
+        std::lock_guard lock(mutex_);
+        auto now = std::chrono::steady_clock::now();
+        if (now - windowStart_ >= kWindow) {
+            dropped = suppressed_;
+            windowStart_ = now;
+            logged_ = 0;
+            suppressed_ = 0;
+        }
+        if (logged_ >= kLinesPerWindow) {
+            ++suppressed_;
+            return;
+        }
+        ++logged_;
+    }
+    if (dropped > 0)
+        spdlog::warn("{} more rejected requests were not logged (at most {} lines per {} s)",
+                     dropped, kLinesPerWindow, kWindow.count());
+    spdlog::warn("rejected {} from {}: {}: {}", method, quoteInput(peer, 100),
+                 codeName(status.error_code()), quoteInput(status.error_message(), 200));
+}
+
+}  // namespace partita::server

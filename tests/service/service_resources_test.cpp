@@ -1,0 +1,177 @@
+// Resource limits a hostile or careless client must not get around: a job's memory estimate,
+// the memory of the running jobs together, watchers of any job, the store's size.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "service_client.h"
+
+namespace partita::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+pb::ServerInfo serverInfo(pb::Partita::Stub& stub) {
+    pb::ServerInfo info;
+    auto ctx = context(10s);
+    EXPECT_TRUE(stub.GetServerInfo(ctx.get(), pb::ServerInfoRequest{}, &info).ok());
+    return info;
+}
+
+TEST(ServiceResources, JobOverTheMemoryLimitIsRefusedWithItsEstimateOneUnderRuns) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-job-memory", "64"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    EXPECT_EQ(serverInfo(*stub).limits().max_job_memory_bytes(), int64_t(64) << 20);
+
+    // 2048x2048 with the default 32 type layers: ~7 GiB by the estimate.
+    Submitted big = submit(*stub, sceneSpec("cornell", 2048, 2048, 1));
+    EXPECT_EQ(big.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    const std::string& why = big.status.error_message();
+    EXPECT_NE(why.find("estimated"), std::string::npos) << why;
+    EXPECT_NE(why.find("GiB"), std::string::npos) << why;
+    EXPECT_NE(why.find("--max-job-memory"), std::string::npos) << why;
+
+    // 1024 type layers at a modest size: refused too (the layers, not the pixels, cost).
+    pb::JobSpec layers = sceneSpec("cornell", 320, 240, 1);
+    layers.set_max_type_layers(1024);
+    EXPECT_EQ(submit(*stub, layers).status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+
+    Submitted small = submit(*stub, sceneSpec("cornell", 64, 48, 1));
+    ASSERT_TRUE(small.status.ok()) << small.status.error_message();
+    EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
+}
+
+TEST(ServiceResources, RunningJobsCountAgainstTheTotal) {
+    TempDir store;
+    // Each job below is estimated at ~90 MiB (1000 type layers on 48x36 pixels): one fits in
+    // the total of 150 MiB, two do not, so the second waits although two may run at once.
+    Daemon daemon(store.path(),
+                  {"--max-jobs", "2", "--max-job-memory", "120", "--max-total-memory", "150"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    auto spec = [] {
+        pb::JobSpec s = sceneSpec("cornell", 48, 36, 1);
+        s.set_max_type_layers(1000);
+        s.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
+        s.mutable_budget()->set_amount(60);
+        return s;
+    };
+    Submitted first = submit(*stub, spec());
+    ASSERT_TRUE(first.status.ok()) << first.status.error_message();
+    ASSERT_TRUE(waitForState(*stub, first.id, pb::JOB_STATE_RENDERING, 30s));
+    Submitted second = submit(*stub, spec());
+    ASSERT_TRUE(second.status.ok()) << second.status.error_message();
+    // A bounded look: the second stays queued while the first renders.
+    EXPECT_FALSE(waitForState(*stub, second.id, pb::JOB_STATE_LOADING, 2s));
+    pb::GetJobRequest get;
+    get.set_job_id(second.id);
+    pb::Job job;
+    auto ctx = context(10s);
+    ASSERT_TRUE(stub->GetJob(ctx.get(), get, &job).ok());
+    EXPECT_EQ(job.state(), pb::JOB_STATE_QUEUED);
+
+    pb::CancelJobRequest cancel;
+    cancel.set_job_id(first.id);
+    auto cctx = context(10s);
+    ASSERT_TRUE(stub->CancelJob(cctx.get(), cancel, &job).ok());
+    EXPECT_TRUE(waitForState(*stub, second.id, pb::JOB_STATE_RENDERING, 30s))
+        << "the second job starts once the first has freed its memory";
+    cancel.set_job_id(second.id);
+    auto c2 = context(10s);
+    EXPECT_TRUE(stub->CancelJob(c2.get(), cancel, &job).ok());
+}
+
+/// A watch stream that has received its first event and then reads nothing more.
+struct StalledWatcher {
+    std::unique_ptr<grpc::ClientContext> ctx = context(60s);
+    std::unique_ptr<grpc::ClientReader<pb::JobEvent>> reader;
+    bool firstEvent = false;
+    StalledWatcher(pb::Partita::Stub& stub, const std::string& id) {
+        reader = stub.WatchJob(ctx.get(), watchRequest(id, true, true));
+        pb::JobEvent event;
+        firstEvent = reader->Read(&event) && event.has_state();
+    }
+    ~StalledWatcher() {
+        ctx->TryCancel();
+        reader->Finish();
+    }
+};
+
+TEST(ServiceResources, WatcherLimitHoldsForFinishedJobsToo) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-watchers", "2"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    // Raw final frames of 34 layers (~8 MB) do not fit gRPC's flow-control window: a watcher
+    // that stops reading keeps its stream open.
+    Submitted job = submit(*stub, sceneSpec("cornell-glass", 160, 120, 4));
+    ASSERT_TRUE(job.status.ok()) << job.status.error_message();
+    ASSERT_EQ(waitForEnd(*stub, job.id, 60s).state(), pb::JOB_STATE_DONE);
+
+    auto a = std::make_unique<StalledWatcher>(*stub, job.id);
+    auto b = std::make_unique<StalledWatcher>(*stub, job.id);
+    ASSERT_TRUE(a->firstEvent && b->firstEvent);
+    WatchLog third = watch(*stub, job.id);
+    EXPECT_EQ(third.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED)
+        << third.status.error_message();
+    EXPECT_NE(third.status.error_message().find("--max-watchers"), std::string::npos);
+
+    // Once a stream ends, its place is free again (the server notices within a bounded wait).
+    a.reset();
+    bool accepted = false;
+    for (int i = 0; i < 100 && !accepted; ++i) {
+        accepted = watch(*stub, job.id).status.ok();
+        if (!accepted) std::this_thread::sleep_for(100ms);
+    }
+    EXPECT_TRUE(accepted);
+}
+
+TEST(ServiceResources, WatchStreamsOfAllJobsTogetherAreBounded) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-watch-streams", "2"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    Submitted a = submit(*stub, sceneSpec("cornell-glass", 160, 120, 4));
+    Submitted b = submit(*stub, sceneSpec("cornell-glass", 160, 120, 4, 2));
+    ASSERT_TRUE(a.status.ok() && b.status.ok());
+    ASSERT_EQ(waitForEnd(*stub, a.id, 60s).state(), pb::JOB_STATE_DONE);
+    ASSERT_EQ(waitForEnd(*stub, b.id, 60s).state(), pb::JOB_STATE_DONE);
+    StalledWatcher first(*stub, a.id), second(*stub, b.id);
+    ASSERT_TRUE(first.firstEvent && second.firstEvent);
+    WatchLog third = watch(*stub, a.id);
+    EXPECT_EQ(third.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(third.status.error_message().find("--max-watch-streams"), std::string::npos)
+        << third.status.error_message();
+}
+
+TEST(ServiceResources, StoreSizeLimitRefusesNewUploads) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-store-mb", "1"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    EXPECT_EQ(serverInfo(*stub).limits().max_store_bytes(), int64_t(1) << 20);
+
+    pb::JobSpec big;
+    big.mutable_scene()->set_glb(makeGridGlb(300));  // a few MB
+    ASSERT_GT(big.scene().glb().size(), size_t(1) << 20);
+    big.set_width(16);
+    big.set_height(16);
+    Submitted refused = submit(*stub, big);
+    EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(refused.status.error_message().find("--max-store-mb"), std::string::npos)
+        << refused.status.error_message();
+
+    pb::JobSpec small;
+    small.mutable_scene()->set_glb(makeGridGlb(10));
+    small.set_width(16);
+    small.set_height(16);
+    Submitted ok = submit(*stub, small);
+    EXPECT_TRUE(ok.status.ok()) << ok.status.error_message();
+    // Named scenes take no store space before they render: still accepted.
+    EXPECT_TRUE(submit(*stub, sceneSpec("cornell", 16, 16, 1)).status.ok());
+}
+
+}  // namespace
+}  // namespace partita::test
