@@ -12,7 +12,7 @@
 namespace partita::test {
 
 LayeredImage renderInProcess(const fs::path& sceneFile, int width, int height, double spp,
-                             uint64_t seed) {
+                             uint64_t seed, const std::string& algorithm) {
     RenderScene scene(loadGltfFile(sceneFile));
     RenderSettings s;
     s.width = width;
@@ -23,7 +23,7 @@ LayeredImage renderInProcess(const fs::path& sceneFile, int width, int height, d
     ThreadPool pool(2);
     std::atomic<bool> cancel{false};
     RenderObserver observer;
-    return runRender(scene, "pt", s, pool, cancel, observer).image;
+    return runRender(scene, algorithm, s, pool, cancel, observer).image;
 }
 
 LayeredImage readExrBytes(const std::string& bytes, const std::string& name) {

@@ -10,9 +10,10 @@
 
 namespace partita::test {
 
-/// runRender of `pt` on a scene file with the settings the daemon derives from sceneSpec().
+/// runRender of `algorithm` on a scene file with the settings the daemon derives from
+/// sceneSpec().
 LayeredImage renderInProcess(const fs::path& sceneFile, int width, int height, double spp,
-                             uint64_t seed);
+                             uint64_t seed, const std::string& algorithm = "pt");
 
 /// An image received as bytes (EXR, or PNG with name "x.png"), read with partita::readExr.
 LayeredImage readExrBytes(const std::string& bytes, const std::string& name = "result.exr");

@@ -42,6 +42,27 @@ TEST(ServiceRender, ResultEqualsInProcessRenderBitForBit) {
     EXPECT_EQ(compareImages(remote, local), "");
 }
 
+TEST(ServiceRender, BdptThroughTheDaemonEqualsInProcessBitForBit) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::JobSpec spec = sceneSpec("cornell-point", 32, 24, 4, 5);
+    spec.set_algorithm("bdpt");
+    Submitted job = submit(*stub, spec);
+    ASSERT_TRUE(job.status.ok()) << job.status.error_message();
+    WatchLog log = watch(*stub, job.id);
+    ASSERT_TRUE(log.last());
+    ASSERT_EQ(log.last()->state(), pb::JOB_STATE_DONE) << log.last()->error();
+    Fetched exr = fetch(*stub, job.id, pb::RESULT_KIND_EXR);
+    ASSERT_TRUE(exr.status.ok()) << exr.status.error_message();
+    LayeredImage remote = readExrBytes(exr.bytes);
+    LayeredImage local =
+        renderInProcess(kScenes / "cornell-point" / "cornell-point.gltf", 32, 24, 4, 5, "bdpt");
+    ASSERT_NE(local.layer("LSSDE"), nullptr) << "the point light's caustic, by light tracing";
+    EXPECT_EQ(compareImages(remote, local), "");
+}
+
 TEST(ServiceRender, PreviewsArriveAndTheFinalFrameIsTheResult) {
     TempDir store;
     Daemon daemon(store.path());

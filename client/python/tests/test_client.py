@@ -91,6 +91,13 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(done.state, "done")
         self.assertEqual(done.scene, "cornell")
 
+    def test_bdpt_renders_the_point_light_caustic(self):
+        job = self.client.submit("cornell-point", algorithm="bdpt", **TINY)
+        self.assertEqual(self.client.wait(job).state, "done")
+        layers = self.client.result(job)
+        self.assertIn("LSSDE", layers)  # light tracing reaches what pt cannot
+        self.assertGreater(float(layers["LSSDE"].sum()), 0.0)
+
     def test_cancel(self):
         job = self.client.submit("cornell", width=32, height=24, seconds=60, label="py-cancel")
         self.client.cancel(job)
