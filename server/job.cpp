@@ -103,6 +103,7 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
         updated.set_note(boundedText(note));
     } else {
         updated.set_error(boundedText(error));
+        if (!note.empty()) updated.set_note(boundedText(note));
     }
     int64_t now = nowUnixMs();
     if (next == pb::JOB_STATE_LOADING) {

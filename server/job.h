@@ -68,9 +68,10 @@ class Job {
     /// nothing) otherwise. `error` becomes the record's error (cleared when empty); `stats`, when
     /// given, replaces its statistics. `note` is logged with the transition; going back to QUEUED
     /// (a re-queue, never an error) it also becomes the record's `note` and the record's error is
-    /// cleared whatever `error` says. The record keeps its latest note through later states.
-    /// Times are kept: started on LOADING, finished on a terminal state. Throws what `persist`
-    /// throws, leaving the job unchanged.
+    /// cleared whatever `error` says; on other steps a non-empty `note` (a warning such as "the
+    /// scene has no light") becomes the record's note too. The record keeps its latest note through
+    /// later states. Times are kept: started on LOADING, finished on a terminal state. Throws what
+    /// `persist` throws, leaving the job unchanged.
     bool transition(pb::JobState next, const std::string& error, const Persist& persist,
                     const std::string& note = {},
                     const std::map<std::string, double>* stats = nullptr);

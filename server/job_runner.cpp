@@ -11,6 +11,7 @@
 #include "image_io.h"
 #include "render_scene.h"
 #include "renderer.h"
+#include "scene_environment.h"
 #include "text.h"
 #include "validation.h"
 
@@ -106,6 +107,12 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
                        {"max_type_layers", s.maxTypeLayers},
                        {"preview_interval_seconds", s.previewIntervalSeconds},
                        {"priority", job.spec().priority()}};
+    if (s.environment.hasColor)
+        j["parameters"]["environment_color"] = {shortest(s.environment.color[0]),
+                                                shortest(s.environment.color[1]),
+                                                shortest(s.environment.color[2])};
+    if (s.environment.enabled())
+        j["parameters"]["environment_rotation_degrees"] = shortest(s.environment.rotationDegrees);
     nlohmann::ordered_json stats = nlohmann::ordered_json::object();
     for (const auto& [k, value] : result.stats.values) stats[k] = value;
     j["stats"] = stats;
@@ -178,6 +185,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
             throw std::runtime_error(s.error_message());
         SceneData data = loadScene(job, ctx);
         for (const auto& w : data.warnings) spdlog::warn("{} scene: {}", job.tag(), w);
+        attachEnvironment(data, v.settings.environment);
         checkCancel();
         RenderScene scene(std::move(data));
         checkCancel();
@@ -195,7 +203,11 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
             stats["requeued"] = before.stats().at("requeued");
         job.publishFrame(std::move(result.image), true);
         observer.advance(pb::JOB_STATE_RENDERING);
-        job.transition(pb::JOB_STATE_DONE, "", persist, "", &stats);
+        // A warning of the render (a scene without any light renders black) reaches watchers
+        // and listings as the job's note.
+        auto warning = result.stats.labels.find("warning");
+        job.transition(pb::JOB_STATE_DONE, "", persist,
+                       warning == result.stats.labels.end() ? "" : warning->second, &stats);
         job.keepFinalFrameOnDisk(ctx.store.jobDir(job.id()) / kResultExr);
         spdlog::info("{} done in {:.2f} s", job.tag(), seconds);
     } catch (const RenderCancelled&) {

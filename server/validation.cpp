@@ -159,6 +159,15 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (spec.has_seed()) s.seed = spec.seed();
     if (spec.has_max_depth()) s.maxDepth = spec.max_depth();
     if (spec.has_max_type_layers()) s.maxTypeLayers = spec.max_type_layers();
+    if (spec.environment_color_size() != 0) {
+        if (spec.environment_color_size() != 3)
+            return invalid("environment_color needs 3 values (R, G, B), got " +
+                           std::to_string(spec.environment_color_size()));
+        s.environment.hasColor = true;
+        for (int k = 0; k < 3; ++k) s.environment.color[size_t(k)] = spec.environment_color(k);
+    }
+    if (spec.has_environment_rotation_degrees())
+        s.environment.rotationDegrees = spec.environment_rotation_degrees();
     if (spec.has_preview_interval_seconds()) {
         double p = spec.preview_interval_seconds();
         if (!std::isfinite(p) || p < 0 || (p > 0 && p < 0.05))

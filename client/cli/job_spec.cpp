@@ -32,6 +32,14 @@ partita::v1::JobSpec makeJobSpec(const CLI::App& app, const JobFlags& flags) {
     if (given("--radius")) spec.set_radius(s.guideRadius);
     if (given("--epsilon")) spec.set_epsilon(s.guideEpsilon);
     if (given("--layers")) spec.set_max_type_layers(s.maxTypeLayers);
+    if (!s.environment.file.empty())
+        throw CliError(
+            "--environment FILE is not sent to a daemon yet: give --environment-color R,G,B, or "
+            "render with partita-local");
+    if (s.environment.hasColor)
+        for (float c : s.environment.color) spec.add_environment_color(c);
+    if (given("--environment-rotation"))
+        spec.set_environment_rotation_degrees(s.environment.rotationDegrees);
     if (o.spp) {
         spec.mutable_budget()->set_kind(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
         spec.mutable_budget()->set_amount(*o.spp);
@@ -62,6 +70,12 @@ std::string validateJobSpec(const partita::v1::JobSpec& spec) {
     if (spec.has_radius()) s.guideRadius = spec.radius();
     if (spec.has_epsilon()) s.guideEpsilon = spec.epsilon();
     if (spec.has_max_type_layers()) s.maxTypeLayers = spec.max_type_layers();
+    if (spec.environment_color_size() == 3) {
+        s.environment.hasColor = true;
+        for (int k = 0; k < 3; ++k) s.environment.color[size_t(k)] = spec.environment_color(k);
+    }
+    if (spec.has_environment_rotation_degrees())
+        s.environment.rotationDegrees = spec.environment_rotation_degrees();
     if (spec.has_preview_interval_seconds())
         s.previewIntervalSeconds = spec.preview_interval_seconds();
     if (spec.has_budget()) {

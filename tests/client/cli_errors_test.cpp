@@ -23,6 +23,15 @@ TEST(CliErrors, UnknownAlgorithm) {
                        "(INVALID_ARGUMENT)");
 }
 
+TEST(CliErrors, EnvironmentImageIsNotSentToADaemonYet) {
+    expectOneLineError(
+        partita(concat({"render", "cornell", "--server", "127.0.0.1:1", "--environment", "sky.exr"},
+                       kTiny)),
+        "--environment FILE is not sent to a daemon yet");
+    expectOneLineError(partita(concat({"render", "cornell", "--environment-color", "1,1"}, kTiny)),
+                       "--environment-color");
+}
+
 TEST(CliErrors, BadSweepSyntax) {
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "y8,32"}), "bad --sweep 'y8,32'");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "y=a,b"}), "not a whole number");

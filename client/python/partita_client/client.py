@@ -19,15 +19,17 @@ from .scene import scene_source
 # submit() keyword -> how it goes into the JobSpec. Names with '-' (as on the command line) are
 # accepted too: max-depth == max_depth.
 _INT_FIELDS = ("width", "height", "k", "y", "max_depth", "max_type_layers")
-_FLOAT_FIELDS = ("radius", "epsilon", "preview_interval_seconds")
+_FLOAT_FIELDS = ("radius", "epsilon", "preview_interval_seconds", "environment_rotation_degrees")
 _BUDGETS = {
     "spp": pb2.BUDGET_KIND_SAMPLES_PER_PIXEL,
     "mpp": pb2.BUDGET_KIND_MUTATIONS_PER_PIXEL,
     "seconds": pb2.BUDGET_KIND_SECONDS,
 }
-_ALIASES = {"preview_interval": "preview_interval_seconds", "layers": "max_type_layers"}
+_ALIASES = {"preview_interval": "preview_interval_seconds", "layers": "max_type_layers",
+            "environment_rotation": "environment_rotation_degrees"}
 JOB_PARAMETERS = tuple(sorted(
-    ("algorithm", "camera", "seed", "priority", "label") + _INT_FIELDS + _FLOAT_FIELDS +
+    ("algorithm", "camera", "seed", "priority", "label", "environment_color") + _INT_FIELDS +
+    _FLOAT_FIELDS +
     tuple(_BUDGETS) + tuple(_ALIASES)))
 
 _RESULT_KINDS = {
@@ -40,7 +42,8 @@ _RESULT_KINDS = {
 def job_spec(scene, **params) -> "pb2.JobSpec":
     """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job parameters:
     algorithm, spp | mpp | seconds, width, height, camera, seed, max_depth, k, y, radius,
-    epsilon, preview_interval, priority, label, max_type_layers. Unset ones take the server's
+    epsilon, preview_interval, priority, label, max_type_layers, environment_color (R, G, B),
+    environment_rotation. Unset ones take the server's
     defaults. Raises ValueError on an unknown or ill-typed parameter."""
     spec = pb2.JobSpec()
     spec.scene.CopyFrom(scene_source(scene))
@@ -68,6 +71,11 @@ def job_spec(scene, **params) -> "pb2.JobSpec":
             spec.seed = int(value)
         elif name == "priority":
             spec.priority = int(value)
+        elif name == "environment_color":
+            color = [float(c) for c in value]
+            if len(color) != 3:
+                raise ValueError(f"environment_color needs 3 values (R, G, B), got {value!r}")
+            spec.environment_color.extend(color)
         elif name in ("algorithm", "camera", "label"):
             setattr(spec, name, str(value))
         else:

@@ -98,6 +98,16 @@ class ClientTest(unittest.TestCase):
         self.assertIn("LSSDE", layers)  # light tracing reaches what pt cannot
         self.assertGreater(float(layers["LSSDE"].sum()), 0.0)
 
+    def test_environment_color_goes_into_the_spec(self):
+        from partita_client.client import job_spec
+        spec = job_spec("cornell", environment_color=(0.5, 1, 2), environment_rotation=30)
+        self.assertEqual(list(spec.environment_color), [0.5, 1.0, 2.0])
+        self.assertEqual(spec.environment_rotation_degrees, 30.0)
+        with self.assertRaises(ValueError):
+            job_spec("cornell", environment_color=(1, 1))
+        job = self.client.submit("cornell", environment_color=(1, 1, 1), **TINY)
+        self.assertEqual(self.client.wait(job).state, "done")
+
     def test_cancel(self):
         job = self.client.submit("cornell", width=32, height=24, seconds=60, label="py-cancel")
         self.client.cancel(job)

@@ -1,0 +1,89 @@
+// The environment through the daemon: a uniform environment colour lights an uploaded scene that
+// has no light of its own; without one the job says so in its note and metadata; a malformed
+// colour is INVALID_ARGUMENT.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "in_process.h"
+#include "service_client.h"
+
+namespace partita::test {
+namespace {
+
+/// One triangle and nothing that emits (gltfWithBufferUri's scene, its buffer uploaded).
+pb::JobSpec unlitTriangle() {
+    std::string triangle(36, '\0');
+    float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    std::memcpy(triangle.data(), v, 36);
+    pb::JobSpec spec;
+    spec.mutable_scene()->mutable_gltf()->set_gltf(gltfWithBufferUri("triangle.bin"));
+    auto* r = spec.mutable_scene()->mutable_gltf()->add_resources();
+    r->set_uri("triangle.bin");
+    r->set_data(triangle);
+    spec.set_width(16);
+    spec.set_height(12);
+    spec.mutable_budget()->set_kind(pb::BUDGET_KIND_SAMPLES_PER_PIXEL);
+    spec.mutable_budget()->set_amount(2);
+    return spec;
+}
+
+pb::Job runToEnd(pb::Partita::Stub& stub, const pb::JobSpec& spec, std::string& id) {
+    Submitted job = submit(stub, spec);
+    EXPECT_TRUE(job.status.ok()) << job.status.error_message();
+    id = job.id;
+    return waitForEnd(stub, job.id);
+}
+
+double meanOfResult(pb::Partita::Stub& stub, const std::string& id) {
+    Fetched exr = fetch(stub, id, pb::RESULT_KIND_EXR);
+    EXPECT_TRUE(exr.status.ok()) << exr.status.error_message();
+    return luminance(readExrBytes(exr.bytes).combined.mean());
+}
+
+TEST(ServiceEnvironment, AColourLightsASceneWithoutLightsAndItsAbsenceIsANote) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    std::string dark, lit;
+    pb::Job darkEnd = runToEnd(*stub, unlitTriangle(), dark);
+    ASSERT_EQ(darkEnd.state(), pb::JOB_STATE_DONE) << darkEnd.error();
+    EXPECT_NE(darkEnd.note().find("no light"), std::string::npos) << darkEnd.note();
+    EXPECT_EQ(meanOfResult(*stub, dark), 0.0);
+    Fetched meta = fetch(*stub, dark, pb::RESULT_KIND_METADATA);
+    ASSERT_TRUE(meta.status.ok());
+    EXPECT_NE(nlohmann::json::parse(meta.bytes)["labels"].value("warning", ""), "");
+
+    pb::JobSpec spec = unlitTriangle();
+    for (float c : {0.5f, 1.0f, 2.0f}) spec.add_environment_color(c);
+    spec.set_environment_rotation_degrees(30);
+    pb::Job litEnd = runToEnd(*stub, spec, lit);
+    ASSERT_EQ(litEnd.state(), pb::JOB_STATE_DONE) << litEnd.error();
+    EXPECT_EQ(litEnd.note(), "");
+    EXPECT_GT(meanOfResult(*stub, lit), 0.5);  // mostly sky of luminance ~1.1
+    Fetched litMeta = fetch(*stub, lit, pb::RESULT_KIND_METADATA);
+    auto params = nlohmann::json::parse(litMeta.bytes)["parameters"];
+    EXPECT_EQ(params["environment_color"].size(), 3u);
+    EXPECT_EQ(params["environment_rotation_degrees"], 30.0);
+}
+
+TEST(ServiceEnvironment, AColourOfOtherThanThreeValuesIsInvalid) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::JobSpec spec = unlitTriangle();
+    spec.add_environment_color(1);
+    spec.add_environment_color(1);
+    Submitted job = submit(*stub, spec);
+    EXPECT_EQ(job.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(job.status.error_message().find("environment_color"), std::string::npos);
+    spec.add_environment_color(-1);
+    job = submit(*stub, spec);
+    EXPECT_EQ(job.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+}
+
+}  // namespace
+}  // namespace partita::test
