@@ -76,6 +76,49 @@ SceneData loadScene(const Job& job, const RunContext& ctx) {
     return SceneSource::loadUpload(upload, uint64_t(ctx.limits.maxUploadBytes));
 }
 
+/// The job's environment on the scene. An image (a resource of the upload, or a file in the
+/// named scene's folder) is written into the job's folder for OpenImageIO to read, then removed.
+void attachJobEnvironment(const Job& job, const RunContext& ctx, const EnvironmentSettings& env,
+                          SceneData& data) {
+    if (env.file.empty()) {
+        attachEnvironment(data, env);
+        return;
+    }
+    const pb::SceneSource& source = job.spec().scene();
+    std::vector<uint8_t> bytes;
+    try {
+        if (source.has_scene_name()) {
+            bytes = ctx.scenes.readNamedResource(source.scene_name(), env.file,
+                                                 uint64_t(ctx.limits.maxUploadBytes));
+        } else {
+            pb::SceneSource upload;
+            if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
+                throw std::runtime_error("the uploaded scene of this job is damaged in the store");
+            bytes = SceneSource::readUploadedResource(upload, env.file);
+        }
+    } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("environment image: ") + e.what());
+    }
+    fs::path local =
+        ctx.store.jobDir(job.id()) / ("environment" + fs::path(env.file).extension().string());
+    {
+        std::ofstream out(local, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        if (!out) throw std::runtime_error("cannot write the environment image into the store");
+    }
+    EnvironmentSettings onDisk = env;
+    onDisk.file = local.string();
+    try {
+        attachEnvironment(data, onDisk);
+    } catch (...) {
+        std::error_code ec;
+        fs::remove(local, ec);
+        throw;
+    }
+    std::error_code ec;
+    fs::remove(local, ec);
+}
+
 /// A float as the shortest decimal that reads back as it (0.01f is 0.01, not 0.009999999776).
 double shortest(float v) { return std::stod(fmt::format("{}", v)); }
 
@@ -111,6 +154,7 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
         j["parameters"]["environment_color"] = {shortest(s.environment.color[0]),
                                                 shortest(s.environment.color[1]),
                                                 shortest(s.environment.color[2])};
+    if (!s.environment.file.empty()) j["parameters"]["environment_file"] = s.environment.file;
     if (s.environment.enabled())
         j["parameters"]["environment_rotation_degrees"] = shortest(s.environment.rotationDegrees);
     nlohmann::ordered_json stats = nlohmann::ordered_json::object();
@@ -185,7 +229,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
             throw std::runtime_error(s.error_message());
         SceneData data = loadScene(job, ctx);
         for (const auto& w : data.warnings) spdlog::warn("{} scene: {}", job.tag(), w);
-        attachEnvironment(data, v.settings.environment);
+        attachJobEnvironment(job, ctx, v.settings.environment, data);
         checkCancel();
         RenderScene scene(std::move(data));
         checkCancel();

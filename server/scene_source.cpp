@@ -108,6 +108,26 @@ std::vector<SceneEntry> SceneSource::list() const {
     return out;
 }
 
+std::vector<uint8_t> SceneSource::readNamedResource(const std::string& name, const std::string& uri,
+                                                    uint64_t maxBytes) const {
+    grpc::StatusCode code;
+    std::string error;
+    fs::path file = resolve(name, code, error);
+    if (file.empty()) throw SceneLoadError(error);
+    FolderResolver folder(file.parent_path(), maxBytes);
+    auto bytes = folder.read(uri, error);
+    if (!bytes) throw SceneLoadError(error);
+    return *bytes;
+}
+
+std::vector<uint8_t> SceneSource::readUploadedResource(const pb::SceneSource& upload,
+                                                       const std::string& uri) {
+    if (upload.source_case() == pb::SceneSource::kGltf)
+        for (const auto& r : upload.gltf().resources())
+            if (r.uri() == uri) return bytesOf(r.data());
+    throw SceneLoadError("no resource '" + quoteInput(uri, 64) + "' was uploaded with the scene");
+}
+
 SceneData SceneSource::loadNamed(const std::string& name) const {
     grpc::StatusCode code;
     std::string error;

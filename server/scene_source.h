@@ -39,6 +39,14 @@ class SceneSource {
     /// Scenes addressable by name: <root>/<name>/<name>.gltf|.glb and <root>/<name>.glb.
     std::vector<SceneEntry> list() const;
 
+    /// The bytes of resource `uri` of a named scene: a file in its folder, by the rules of glTF
+    /// uris (nothing outside the folder). Throws SceneLoadError.
+    std::vector<uint8_t> readNamedResource(const std::string& name, const std::string& uri,
+                                           uint64_t maxBytes) const;
+    /// The bytes of resource `uri` uploaded with a .gltf scene. Throws SceneLoadError.
+    static std::vector<uint8_t> readUploadedResource(const pb::SceneSource& upload,
+                                                     const std::string& uri);
+
     /// Loads a named scene. Throws SceneLoadError (one line) for anything wrong.
     SceneData loadNamed(const std::string& name) const;
 

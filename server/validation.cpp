@@ -4,7 +4,9 @@
 #include <google/protobuf/util/field_mask_util.h>
 
 #include <spdlog/fmt/fmt.h>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <set>
 
 #include "algorithm.h"
@@ -13,6 +15,8 @@
 #include "text.h"
 
 namespace partita::server {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -165,6 +169,20 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
                            std::to_string(spec.environment_color_size()));
         s.environment.hasColor = true;
         for (int k = 0; k < 3; ++k) s.environment.color[size_t(k)] = spec.environment_color(k);
+    }
+    if (!spec.environment_file().empty()) {
+        const std::string& f = spec.environment_file();
+        if (f.size() > 1024) return invalid("environment_file is longer than 1024 characters");
+        std::string ext = fs::path(f).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (ext != ".exr" && ext != ".hdr")
+            return invalid("environment_file must be an .exr or .hdr image, got '" + quoteInput(f) +
+                           "'");
+        if (spec.scene().has_glb())
+            return invalid(
+                "an environment image goes with a .gltf upload (as one of its "
+                "resources) or a named scene, not with a .glb");
+        s.environment.file = f;
     }
     if (spec.has_environment_rotation_degrees())
         s.environment.rotationDegrees = spec.environment_rotation_degrees();

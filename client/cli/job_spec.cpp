@@ -32,10 +32,9 @@ partita::v1::JobSpec makeJobSpec(const CLI::App& app, const JobFlags& flags) {
     if (given("--radius")) spec.set_radius(s.guideRadius);
     if (given("--epsilon")) spec.set_epsilon(s.guideEpsilon);
     if (given("--layers")) spec.set_max_type_layers(s.maxTypeLayers);
-    if (!s.environment.file.empty())
-        throw CliError(
-            "--environment FILE is not sent to a daemon yet: give --environment-color R,G,B, or "
-            "render with partita-local");
+    // --environment FILE travels with the scene: addEnvironmentImage, once the scene is known.
+    if (!s.environment.file.empty() && s.environment.hasColor)
+        throw CliError("give --environment or --environment-color, not both");
     if (s.environment.hasColor)
         for (float c : s.environment.color) spec.add_environment_color(c);
     if (given("--environment-rotation"))

@@ -33,6 +33,7 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
     partita::v1::JobSpec spec = makeJobSpec(sub, a.flags);
     *spec.mutable_scene() = loadSceneSource(scene);  // reads and checks files before anything runs
     if (scene.isFile) spec.set_scene_file(fs::path(scene.text).filename().string());
+    addEnvironmentImage(spec, a.flags.render.settings.environment.file);
 
     const fs::path out =
         a.out.empty() ? fs::path(safeFileName(sceneStem(scene)) + ".exr") : fs::path(a.out);

@@ -130,6 +130,27 @@ std::string sceneStem(const SceneArgument& scene) {
     return s.empty() ? "scene" : s;
 }
 
+void addEnvironmentImage(partita::v1::JobSpec& spec, const std::string& file) {
+    if (file.empty()) return;
+    if (spec.scene().has_scene_name()) {
+        spec.set_environment_file(file);  // the server reads it from the scene's folder
+        return;
+    }
+    if (!spec.scene().has_gltf())
+        throw CliError("--environment goes with a .gltf scene or a scene name, not a .glb");
+    std::string bytes;
+    try {
+        bytes = readFile(file);
+    } catch (const std::exception&) {
+        throw CliError("cannot read environment image '" + file + "'");
+    }
+    std::string uri = "partita-environment/" + fs::path(file).filename().string();
+    auto* res = spec.mutable_scene()->mutable_gltf()->add_resources();
+    res->set_uri(uri);
+    res->set_data(std::move(bytes));
+    spec.set_environment_file(uri);
+}
+
 partita::v1::SceneSource loadSceneSource(const SceneArgument& scene) {
     partita::v1::SceneSource source;
     if (scene.text.empty()) throw CliError("the scene is empty");

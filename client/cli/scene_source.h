@@ -26,6 +26,12 @@ SceneArgument classifyScene(const std::string& scene);
 /// The SceneSource for a job; reads and checks files now. Throws CliError.
 partita::v1::SceneSource loadSceneSource(const SceneArgument& scene);
 
+/// --environment FILE for a job whose scene is already in `spec`: with an uploaded .gltf the
+/// local image travels with it as one more resource (uri "partita-environment/<name>"); with a
+/// named scene FILE names an image in that scene's folder on the server. A .glb upload has no
+/// room for it. Throws CliError.
+void addEnvironmentImage(partita::v1::JobSpec& spec, const std::string& file);
+
 /// A short name for outputs: the file's stem or the scene name ("cornell").
 std::string sceneStem(const SceneArgument& scene);
 

@@ -93,6 +93,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     partita::v1::JobSpec base = makeJobSpec(sub, a.flags);
     *base.mutable_scene() = loadSceneSource(scene);
     if (scene.isFile) base.set_scene_file(fs::path(scene.text).filename().string());
+    addEnvironmentImage(base, a.flags.render.settings.environment.file);
     if (base.label().empty()) base.set_label("sweep:" + sceneStem(scene));
 
     LayeredImage reference;

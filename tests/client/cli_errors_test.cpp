@@ -23,13 +23,16 @@ TEST(CliErrors, UnknownAlgorithm) {
                        "(INVALID_ARGUMENT)");
 }
 
-TEST(CliErrors, EnvironmentImageIsNotSentToADaemonYet) {
+TEST(CliErrors, EnvironmentFlags) {
     expectOneLineError(
-        partita(concat({"render", "cornell", "--server", "127.0.0.1:1", "--environment", "sky.exr"},
-                       kTiny)),
-        "--environment FILE is not sent to a daemon yet");
+        partita(concat({"render", kCornell, "--environment", "/nonexistent/sky.exr"}, kTiny)),
+        "cannot read environment image");
     expectOneLineError(partita(concat({"render", "cornell", "--environment-color", "1,1"}, kTiny)),
                        "--environment-color");
+    expectOneLineError(partita(concat({"render", "cornell", "--environment", "sky.exr",
+                                       "--environment-color", "1,1,1"},
+                                      kTiny)),
+                       "not both");
 }
 
 TEST(CliErrors, BadSweepSyntax) {

@@ -4,6 +4,8 @@
 #include "cli_test_util.h"
 #include "image_io.h"
 
+#include <cstring>
+
 namespace partita::test {
 namespace {
 
@@ -35,6 +37,41 @@ TEST(CliRender, PrivateDaemonRendersUploadedGltfAndCleansUp) {
     expectResults(dir / "a.exr", 32, 24);
     EXPECT_TRUE(fs::exists(dir / "previews" / "combined.png")) << r.describe();
     EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "the private daemon's folder was left behind";
+}
+
+TEST(CliRender, AnEnvironmentImageTravelsWithAnUploadedScene) {
+    TempDir dir;
+    // One triangle, nothing that emits.
+    std::string triangle(36, '\0');
+    float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    std::memcpy(triangle.data(), v, 36);
+    writeText(dir / "tri.bin", triangle);
+    nlohmann::json j = {{"asset", {{"version", "2.0"}}},
+                        {"scene", 0},
+                        {"scenes", {{{"nodes", {0}}}}},
+                        {"nodes", {{{"mesh", 0}}}},
+                        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+                        {"buffers", {{{"uri", "tri.bin"}, {"byteLength", 36}}}},
+                        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}}}},
+                        {"accessors",
+                         {{{"bufferView", 0},
+                           {"componentType", 5126},
+                           {"count", 3},
+                           {"type", "VEC3"},
+                           {"min", {0, 0, 0}},
+                           {"max", {1, 1, 0}}}}}};
+    writeText(dir / "tri.gltf", j.dump());
+    LayeredImage sky;
+    sky.combined = Image(8, 4);
+    for (float& c : sky.combined.rgb) c = 2.0f;
+    writeExr(dir / "sky.exr", sky, {});
+    RunResult r = partita(concat({"-q", "render", (dir / "tri.gltf").string(), "--environment",
+                                  (dir / "sky.exr").string(), "--out", (dir / "e.exr").string()},
+                                 kTiny));
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    EXPECT_GT(luminance(readExr(dir / "e.exr").combined.mean()), 1.0f);
+    auto meta = nlohmann::json::parse(readText(dir / "e.json"));
+    EXPECT_EQ(meta["parameters"]["environment_file"], "partita-environment/sky.exr");
 }
 
 TEST(CliRender, PrivateDaemonRendersSceneByName) {

@@ -37,6 +37,10 @@ inline std::string readText(const std::filesystem::path& p) {
     return s.str();
 }
 
+inline void writeText(const std::filesystem::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary) << bytes;
+}
+
 inline std::vector<std::string> lines(const std::string& text) {
     std::vector<std::string> out;
     std::istringstream in(text);

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "image_io.h"
 #include "in_process.h"
 #include "service_client.h"
 
@@ -67,6 +68,63 @@ TEST(ServiceEnvironment, AColourLightsASceneWithoutLightsAndItsAbsenceIsANote) {
     auto params = nlohmann::json::parse(litMeta.bytes)["parameters"];
     EXPECT_EQ(params["environment_color"].size(), 3u);
     EXPECT_EQ(params["environment_rotation_degrees"], 30.0);
+}
+
+/// An equirectangular EXR of one colour, as bytes.
+std::string skyExr(Rgb colour) {
+    TempDir dir;
+    LayeredImage sky;
+    sky.combined = Image(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) sky.combined.set(x, y, colour);
+    writeExr(dir / "sky.exr", sky, {});
+    return readFile(dir / "sky.exr");
+}
+
+TEST(ServiceEnvironment, AnImageUploadedWithTheSceneLightsIt) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::JobSpec spec = unlitTriangle();
+    auto* r = spec.mutable_scene()->mutable_gltf()->add_resources();
+    r->set_uri("sky.exr");
+    r->set_data(skyExr(Rgb(2.0f)));
+    spec.set_environment_file("sky.exr");
+    std::string id;
+    pb::Job end = runToEnd(*stub, spec, id);
+    ASSERT_EQ(end.state(), pb::JOB_STATE_DONE) << end.error();
+    EXPECT_EQ(end.note(), "");
+    EXPECT_GT(meanOfResult(*stub, id), 1.0);  // mostly sky of radiance 2
+    EXPECT_FALSE(fs::exists(store.path() / "jobs" / id / "environment.exr"))
+        << "the image is not left in the store";
+}
+
+TEST(ServiceEnvironment, AnImageMustBeUploadedOrInTheNamedScenesFolder) {
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    std::string id;
+    pb::JobSpec missing = unlitTriangle();
+    missing.set_environment_file("sky.exr");  // named but not uploaded
+    pb::Job end = runToEnd(*stub, missing, id);
+    EXPECT_EQ(end.state(), pb::JOB_STATE_FAILED);
+    EXPECT_NE(end.error().find("no resource"), std::string::npos) << end.error();
+    for (const std::string uri : {"../../../etc/passwd.exr", "/etc/x.exr", "../pool/x.hdr"}) {
+        pb::JobSpec named = sceneSpec("cornell", 8, 8, 1, 1);
+        named.set_environment_file(uri);
+        pb::Job e = runToEnd(*stub, named, id);
+        EXPECT_EQ(e.state(), pb::JOB_STATE_FAILED) << uri;
+        EXPECT_NE(e.error().find("environment"), std::string::npos) << e.error();
+    }
+    pb::JobSpec png = unlitTriangle();
+    png.set_environment_file("sky.png");
+    EXPECT_EQ(submit(*stub, png).status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    pb::JobSpec both = unlitTriangle();
+    both.set_environment_file("sky.exr");
+    for (float c : {1.0f, 1.0f, 1.0f}) both.add_environment_color(c);
+    EXPECT_EQ(submit(*stub, both).status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
 }
 
 TEST(ServiceEnvironment, AColourOfOtherThanThreeValuesIsInvalid) {

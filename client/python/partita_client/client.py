@@ -14,7 +14,7 @@ from . import exr
 from ._stubs import pb2, pb2_grpc
 from .errors import PartitaError, from_rpc_error
 from .models import Job, PreviewEvent, StateEvent, event_from_proto, TERMINAL_STATES
-from .scene import scene_source
+from .scene import add_environment_image, scene_source
 
 # submit() keyword -> how it goes into the JobSpec. Names with '-' (as on the command line) are
 # accepted too: max-depth == max_depth.
@@ -28,7 +28,8 @@ _BUDGETS = {
 _ALIASES = {"preview_interval": "preview_interval_seconds", "layers": "max_type_layers",
             "environment_rotation": "environment_rotation_degrees"}
 JOB_PARAMETERS = tuple(sorted(
-    ("algorithm", "camera", "seed", "priority", "label", "environment_color") + _INT_FIELDS +
+    ("algorithm", "camera", "seed", "priority", "label", "environment", "environment_color") +
+    _INT_FIELDS +
     _FLOAT_FIELDS +
     tuple(_BUDGETS) + tuple(_ALIASES)))
 
@@ -42,8 +43,8 @@ _RESULT_KINDS = {
 def job_spec(scene, **params) -> "pb2.JobSpec":
     """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job parameters:
     algorithm, spp | mpp | seconds, width, height, camera, seed, max_depth, k, y, radius,
-    epsilon, preview_interval, priority, label, max_type_layers, environment_color (R, G, B),
-    environment_rotation. Unset ones take the server's
+    epsilon, preview_interval, priority, label, max_type_layers, environment (an EXR/HDR image),
+    environment_color (R, G, B), environment_rotation. Unset ones take the server's
     defaults. Raises ValueError on an unknown or ill-typed parameter."""
     spec = pb2.JobSpec()
     spec.scene.CopyFrom(scene_source(scene))
@@ -71,6 +72,8 @@ def job_spec(scene, **params) -> "pb2.JobSpec":
             spec.seed = int(value)
         elif name == "priority":
             spec.priority = int(value)
+        elif name == "environment":
+            add_environment_image(spec, value)
         elif name == "environment_color":
             color = [float(c) for c in value]
             if len(color) != 3:

@@ -93,3 +93,23 @@ def scene_source(scene: Union[str, os.PathLike]):
         source.gltf.resources.add(uri=uri, data=_resolve(path, folder, uri).read_bytes())
     source.gltf.gltf = data
     return source
+
+
+def add_environment_image(spec, image: Union[str, os.PathLike]) -> None:
+    """An environment image for a job whose scene is set: uploaded with a .gltf as one more
+    resource ("partita-environment/<name>"), or, with a scene name, the name of an image in that
+    scene's folder on the server (the CLI's rule). A .glb upload cannot carry it."""
+    which = spec.scene.WhichOneof("source")
+    if which == "scene_name":
+        spec.environment_file = str(image)
+        return
+    if which != "gltf":
+        raise PartitaError("an environment image goes with a .gltf scene or a scene name, not a .glb")
+    path = Path(image)
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise PartitaError(f"cannot read environment image '{path}': {e.strerror}") from e
+    uri = "partita-environment/" + path.name
+    spec.scene.gltf.resources.add(uri=uri, data=data)
+    spec.environment_file = uri

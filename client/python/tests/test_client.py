@@ -107,6 +107,11 @@ class ClientTest(unittest.TestCase):
             job_spec("cornell", environment_color=(1, 1))
         job = self.client.submit("cornell", environment_color=(1, 1, 1), **TINY)
         self.assertEqual(self.client.wait(job).state, "done")
+        # An image goes with a .gltf upload as one more resource.
+        spec = job_spec(CORNELL, environment=Path(CORNELL))  # any readable file, for the spec
+        self.assertEqual(spec.environment_file, "partita-environment/cornell.gltf")
+        self.assertEqual(spec.scene.gltf.resources[-1].uri, spec.environment_file)
+        self.assertEqual(job_spec("cornell", environment="sky.hdr").environment_file, "sky.hdr")
 
     def test_cancel(self):
         job = self.client.submit("cornell", width=32, height=24, seconds=60, label="py-cancel")
