@@ -10,7 +10,7 @@ W=${SIZE%x*}
 H=${SIZE#*x}
 OUT=${OUT:-build-bench/bdpt-study}
 mkdir -p "$OUT"
-for scene in ${SCENES:-cornell cornell-glass door-ajar bathroom pool}; do
+for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom pool}; do
     gltf=scenes/$scene/$scene.gltf
     "$EVAL" reference --scene "$gltf" --algorithm bdpt --spp "${REF_SPP:-1024}" --width "$W" \
         --height "$H" --layers 1024 --quiet --out "$OUT/$scene-ref.exr"
