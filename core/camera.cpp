@@ -31,15 +31,9 @@ Ray Camera::generateRay(Vec2f raster) const {
 }
 
 std::optional<Vec2f> Camera::rasterFromWorld(Vec3f p) const {
-    Vec3f d = p - origin_;
-    float z = dot(d, forward_);
-    float x = dot(d, right_), y = dot(d, up_);
-    if (!orthographic_) {
-        if (z <= 0) return std::nullopt;
-        x /= z;
-        y /= z;
-    }
-    Vec2f raster{(x + halfWidth_) / pixelWidth_, (halfHeight_ - y) / pixelHeight_};
+    std::optional<Vec2f> r = rasterOf(p);
+    if (!r) return std::nullopt;
+    Vec2f raster = *r;
     if (!(raster.x >= 0 && raster.x < float(width_) && raster.y >= 0 && raster.y < float(height_)))
         return std::nullopt;
     return raster;

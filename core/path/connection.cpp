@@ -64,20 +64,6 @@ bool Connector::visible(const PathVertex& a, const PathVertex& b, uint64_t& rays
     return !scene_.occluded(spawnShadowRay(a.p, a.ng, b.p, b.ng));
 }
 
-/// Radiance (area), intensity (point, spot) or irradiance (directional) leaving the light
-/// vertex towards the point `towards`.
-Rgb Connector::emittedTowards(const PathVertex& v, Vec3f towards) const {
-    const Light& l = scene_.lights()[size_t(v.light)];
-    if (std::holds_alternative<AreaLight>(l))
-        return scene_.emittedRadiance(v.hit, normalize(towards - v.p));
-    if (const auto* env = std::get_if<EnvironmentLight>(&l))
-        return env->map->radiance(normalize(v.p - towards));
-    if (const auto* point = std::get_if<PointLight>(&l)) return point->intensity;
-    if (const auto* spot = std::get_if<SpotLight>(&l))
-        return spot->intensity * spot->falloff(normalize(towards - v.p));
-    return std::get<DirectionalLight>(l).irradiance;
-}
-
 void Connector::assemble(std::span<const PathVertex> camera, int t,
                          std::span<const PathVertex> light, int s) {
     path_.clear();
@@ -124,7 +110,7 @@ StrategySample Connector::emitterHit(std::span<const PathVertex> camera, int t) 
     const PathVertex& e = camera[size_t(t - 1)];
     if (!isHittable(scene_, e.light)) return r;
     const PathVertex& before = camera[size_t(t - 2)];
-    Rgb le = e.atInfinity ? emittedTowards(e, before.p)
+    Rgb le = e.atInfinity ? emittedTowards(scene_, e, before.p)
                           : scene_.emittedRadiance(e.hit, directionTo(e, before));
     if (isBlack(le)) return r;
     assemble(camera, t, {}, 0);
@@ -165,7 +151,7 @@ StrategySample Connector::nextEvent(std::span<const PathVertex> camera, int t, R
     // nothing for an infinite light: a directional light's "Le" is an irradiance, and the
     // environment's vertex density is a solid angle one).
     float geometry = infinite ? 1.0f : geometricCos(lv, w) / dist2;
-    Rgb le = emittedTowards(lv, c.p);
+    Rgb le = emittedTowards(scene_, lv, c.p);
     const PathVertex& before = camera[size_t(t - 2)];
     Vec3f wo = directionTo(c, before);
     BoundBsdf bsdf(c.bsdf, wo);
@@ -206,7 +192,7 @@ StrategySample Connector::lightTracing(std::span<const PathVertex> light, int s,
     Rgb scatter;  // what l sends towards the camera per unit of its throughput
     float pdfTowardsNext = 0;
     if (s == 1) {
-        scatter = emittedTowards(l, eye.p);
+        scatter = emittedTowards(scene_, l, eye.p);
     } else {
         BoundBsdf bsdf(l.bsdf, -w);
         BoundBsdf::Value v = bsdf.evalPdf(directionTo(l, light[size_t(s - 2)]));

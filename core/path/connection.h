@@ -64,7 +64,6 @@ class Connector {
     /// path_ and densities_ from the first t camera and s light vertices; `light` last.
     void assemble(std::span<const PathVertex> camera, int t, std::span<const PathVertex> light,
                   int s);
-    Rgb emittedTowards(const PathVertex& lightVertex, Vec3f towards) const;
 
     const RenderScene& scene_;
     const Camera& camera_;

@@ -7,6 +7,7 @@
 #include "bsdfs/bound_bsdf.h"
 #include "camera.h"
 #include "light_emission.h"
+#include "path/random_walk.h"
 #include "path/transmittance.h"
 #include "render_scene.h"
 
@@ -23,17 +24,11 @@ const Light& lightOf(const RenderScene& scene, const PathVertex& v) {
 /// What the light vertex x_M sends towards x_{M-1}, times the light end of the last edge
 /// (|cos_g(x_M)| / d^2, or 1 for a directional light).
 Rgb lightEnd(const RenderScene& scene, const PathVertex& light, const PathVertex& before) {
-    const Light& l = lightOf(scene, light);
+    Rgb emitted = emittedTowards(scene, light, before.p);
+    if (isInfiniteLight(lightOf(scene, light))) return emitted;
     Vec3f d = before.p - light.p;
     float dist2 = lengthSquared(d);
-    Vec3f w = d / std::sqrt(dist2);
-    if (const auto* dir = std::get_if<DirectionalLight>(&l)) return dir->irradiance;
-    if (const auto* env = std::get_if<EnvironmentLight>(&l)) return env->map->radiance(-w);
-    float geometry = geometricCos(light, w) / dist2;
-    if (std::holds_alternative<AreaLight>(l)) return scene.emittedRadiance(light.hit, w) * geometry;
-    if (const auto* point = std::get_if<PointLight>(&l)) return point->intensity * geometry;
-    const auto& spot = std::get<SpotLight>(l);
-    return spot.intensity * (spot.falloff(w) * geometry);
+    return emitted * (geometricCos(light, d / std::sqrt(dist2)) / dist2);
 }
 
 }  // namespace

@@ -158,6 +158,18 @@ PathVertex lightVertex(const RenderScene& scene, int light, Vec3f p, Vec3f n, co
     return v;
 }
 
+Rgb emittedTowards(const RenderScene& scene, const PathVertex& v, Vec3f towards) {
+    const Light& l = scene.lights()[size_t(v.light)];
+    if (std::holds_alternative<AreaLight>(l))
+        return scene.emittedRadiance(v.hit, normalize(towards - v.p));
+    if (const auto* env = std::get_if<EnvironmentLight>(&l))
+        return env->map->radiance(normalize(v.p - towards));
+    if (const auto* point = std::get_if<PointLight>(&l)) return point->intensity;
+    if (const auto* spot = std::get_if<SpotLight>(&l))
+        return spot->intensity * spot->falloff(normalize(towards - v.p));
+    return std::get<DirectionalLight>(l).irradiance;
+}
+
 void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
                        std::vector<PathVertex>& out, uint64_t& rays) {
     out.clear();

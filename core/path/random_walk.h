@@ -39,6 +39,10 @@ void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ra
 void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
                        std::vector<PathVertex>& out, uint64_t& rays);
 
+/// What the light vertex v sends towards the point `towards`: radiance (area lights, the
+/// environment), intensity (point, spot) or irradiance (directional), before any geometry.
+Rgb emittedTowards(const RenderScene& scene, const PathVertex& v, Vec3f towards);
+
 /// The light vertex for light `light` at point p with normal n (zero without a surface), its
 /// density set; `towardsLight` is the direction from the scene towards it (the environment's
 /// density depends on it).

@@ -114,6 +114,17 @@ inline CameraDesc lookAtCamera(Vec3f eye, Vec3f target, float yfov) {
     return c;
 }
 
+/// A closed box whose walls all emit Le and reflect diffusely with albedo rho, seen from inside.
+/// Every path sees radiance Le (1 + rho + rho^2 + ...) = Le / (1 - rho); the paths with k
+/// diffuse vertices (type L D^k E) carry exactly Le rho^k, whichever strategy samples them.
+inline SceneData furnaceScene(float rho, float le) {
+    SceneData s;
+    s.materials = {lambertMaterial(Rgb(rho), Rgb(le), true)};
+    s.meshes.push_back(box({-1, -1, -1}, {1, 1, 1}, 0, true));
+    s.cameras.push_back(lookAtCamera({0, 0, 0.5f}, {0, 0, -1}, 1.2f));
+    return s;
+}
+
 /// A Cornell-like box with a ceiling light, a mirror sphere and a glass sphere: it produces
 /// D and S vertices and many path types.
 inline SceneData specularBoxScene() {

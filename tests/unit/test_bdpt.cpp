@@ -134,20 +134,9 @@ TEST(Bdpt, AgreesWithPathTracerPerTypeOnCornellGlass) {
     expectBdptMatchesPt(scene, 8, 256, 32, 8);
 }
 
-/// The closed furnace of the path tracer's tests: walls emitting Le with albedo rho, so the
-/// paths with k scattering vertices (type L D^k E) carry exactly Le rho^k, whichever strategy
-/// samples them.
-SceneData furnaceScene(float rho, float le) {
-    SceneData s;
-    s.materials = {test::lambertMaterial(Rgb(rho), Rgb(le), true)};
-    s.meshes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, 0, true));
-    s.cameras.push_back(test::lookAtCamera({0, 0, 0.5f}, {0, 0, -1}, 1.2f));
-    return s;
-}
-
 TEST(Bdpt, EachStrategyAloneGivesThePerLengthAnswerInTheFurnace) {
     const float rho = 0.5f, le = 1.0f;
-    RenderScene scene(furnaceScene(rho, le));
+    RenderScene scene(test::furnaceScene(rho, le));
     const int seeds = 6, maxK = 2;
     int comparisons = 0;
     for (int k = 0; k <= maxK; ++k) comparisons += k + 2;
@@ -277,25 +266,6 @@ TEST(Bdpt, ADirectlyVisiblePointLightSumsExactlyAtAnySampleCount) {
         double total = 0;
         for (float v : le->rgb) total += v / 3;
         EXPECT_NEAR(total, want, 1e-5 * want) << spp << " spp";
-    }
-}
-
-TEST(Bdpt, ImageDoesNotDependOnThreadCountOrPassSplit) {
-    RenderScene scene(test::specularBoxScene());
-    RenderSettings st = tinySettings(4, 3, 8);
-    st.width = 40;
-    st.height = 30;
-    RenderResult one = renderWith(scene, "bdpt", st, 1);
-    RenderResult two = renderWith(scene, "bdpt", st, 2);
-    st.previewIntervalSeconds = 1e-9;  // passes of one sample each
-    RenderResult split = renderWith(scene, "bdpt", st, 2);
-    EXPECT_GT(luminance(one.image.combined.mean()), 0.0f);
-    EXPECT_EQ(one.image.combined.rgb, two.image.combined.rgb);
-    EXPECT_EQ(one.image.combined.rgb, split.image.combined.rgb);
-    ASSERT_EQ(one.image.layers.size(), two.image.layers.size());
-    for (size_t i = 0; i < one.image.layers.size(); ++i) {
-        EXPECT_EQ(one.image.layers[i].name, two.image.layers[i].name);
-        EXPECT_EQ(one.image.layers[i].image.rgb, two.image.layers[i].image.rgb);
     }
 }
 

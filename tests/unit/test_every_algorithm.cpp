@@ -39,20 +39,9 @@ class EveryAlgorithm : public ::testing::TestWithParam<std::string> {
     }
 };
 
-/// A closed box whose walls all emit Le and reflect diffusely with albedo rho. Every path sees
-/// radiance Le (1 + rho + rho^2 + ...) = Le / (1 - rho); the paths with k diffuse vertices
-/// (type L D^k E) carry exactly Le rho^k.
-SceneData furnaceScene(float rho, float le) {
-    SceneData s;
-    s.materials = {test::lambertMaterial(Rgb(rho), Rgb(le), true)};
-    s.meshes.push_back(test::box({-1, -1, -1}, {1, 1, 1}, 0, true));
-    s.cameras.push_back(test::lookAtCamera({0, 0, 0.5f}, {0, 0, -1}, 1.2f));
-    return s;
-}
-
 TEST_P(EveryAlgorithm, WhiteFurnaceMatchesClosedForm) {
     const float rho = 0.5f, le = 1.0f;
-    RenderScene scene(furnaceScene(rho, le));
+    RenderScene scene(test::furnaceScene(rho, le));
     std::vector<double> means;
     std::vector<std::vector<double>> perType(4);
     for (uint64_t seed = 1; seed <= 8; ++seed) {
@@ -79,7 +68,7 @@ TEST_P(EveryAlgorithm, WhiteFurnaceMatchesClosedForm) {
 
 TEST_P(EveryAlgorithm, MaxDepthTruncatesTheNeumannSeries) {
     const float rho = 0.5f, le = 1.0f;
-    RenderScene scene(furnaceScene(rho, le));
+    RenderScene scene(test::furnaceScene(rho, le));
     std::vector<double> means;
     for (uint64_t seed = 11; seed <= 18; ++seed)
         means.push_back(luminance(
@@ -193,6 +182,25 @@ TEST_P(EveryAlgorithm, CubeUnderAUniformEnvironmentMatchesClosedForm) {
     for (int i = 0; i < comparisons; ++i) {
         auto m = meanAndError(perPixel[size_t(i)]);
         EXPECT_NEAR(m.mean, le, test::statisticalTolerance(m, le, comparisons)) << "pixel " << i;
+    }
+}
+
+TEST_P(EveryAlgorithm, ImageDoesNotDependOnThreadCountOrPassSplit) {
+    RenderScene scene(test::specularBoxScene());
+    RenderSettings st = smallSettings(4, 3, 8);
+    st.width = 40;
+    st.height = 30;
+    RenderResult one = renderWith(scene, GetParam(), st, 1);
+    RenderResult two = renderWith(scene, GetParam(), st, 2);
+    st.previewIntervalSeconds = 1e-9;  // passes of one sample each
+    RenderResult split = renderWith(scene, GetParam(), st, 2);
+    EXPECT_GT(luminance(one.image.combined.mean()), 0.0f);
+    EXPECT_EQ(one.image.combined.rgb, two.image.combined.rgb);
+    EXPECT_EQ(one.image.combined.rgb, split.image.combined.rgb);
+    ASSERT_EQ(one.image.layers.size(), two.image.layers.size());
+    for (size_t i = 0; i < one.image.layers.size(); ++i) {
+        EXPECT_EQ(one.image.layers[i].name, two.image.layers[i].name);
+        EXPECT_EQ(one.image.layers[i].image.rgb, two.image.layers[i].image.rgb);
     }
 }
 

@@ -54,25 +54,6 @@ TEST(PathTracer, TypeLayersSumToCombined) {
         }
 }
 
-TEST(PathTracer, ImageDoesNotDependOnThreadCountOrPassSplit) {
-    RenderScene scene(test::specularBoxScene());
-    RenderSettings st = smallSettings(6, 3, 8);
-    st.width = 40;
-    st.height = 30;
-    RenderResult one = renderWith(scene, "pt", st, 1);
-    RenderResult two = renderWith(scene, "pt", st, 2);
-    st.previewIntervalSeconds = 1e-9;  // passes of one sample each
-    RenderResult split = renderWith(scene, "pt", st, 2);
-    EXPECT_GT(luminance(one.image.combined.mean()), 0.0f);
-    EXPECT_EQ(one.image.combined.rgb, two.image.combined.rgb);
-    EXPECT_EQ(one.image.combined.rgb, split.image.combined.rgb);
-    ASSERT_EQ(one.image.layers.size(), two.image.layers.size());
-    for (size_t i = 0; i < one.image.layers.size(); ++i) {
-        EXPECT_EQ(one.image.layers[i].name, two.image.layers[i].name);
-        EXPECT_EQ(one.image.layers[i].image.rgb, two.image.layers[i].image.rgb);
-    }
-}
-
 TEST(PathTracer, PathsTracedInPairsAddExactlyWhatSinglePathsAdd) {
     // The integrator traces two pixels' paths in lockstep (samplePathPair); each pixel must get
     // the same contributions, in the same order, as from samplePath: the films are equal bit
