@@ -7,6 +7,7 @@
 #include "bsdfs/bound_bsdf.h"
 #include "camera.h"
 #include "light_emission.h"
+#include "path/dirac_vertex.h"
 #include "path/random_walk.h"
 #include "path/transmittance.h"
 #include "render_scene.h"
@@ -34,7 +35,7 @@ Rgb lightEnd(const RenderScene& scene, const PathVertex& light, const PathVertex
 }  // namespace
 
 Rgb pathContribution(const RenderScene& scene, const Camera& camera,
-                     std::span<const PathVertex> path) {
+                     std::span<const PathVertex> path, DiracVertices dirac) {
     size_t n = path.size();
     if (n < 2 || !camera.isConnectable()) return Rgb(0.0f);
     const PathVertex& x0 = path[0];
@@ -45,9 +46,10 @@ Rgb pathContribution(const RenderScene& scene, const Camera& camera,
     if (n > 2) f *= geometricCos(x1, w01) / lengthSquared(x1.p - x0.p);  // (else lightEnd's)
     for (size_t i = 1; i + 1 < n; ++i) {
         const PathVertex& x = path[i];
-        if (x.delta || !x.isSurface()) return Rgb(0.0f);
+        if (!x.isSurface() || (x.delta && dirac == DiracVertices::Zero)) return Rgb(0.0f);
         Vec3f toEye = unitTo(x, path[i - 1]), toLight = unitTo(x, path[i + 1]);
-        f *= BoundBsdf(x.bsdf, toEye).eval(toLight) * absDot(toLight, x.hit.ns);
+        Rgb fs = x.delta ? diracBranch(x, toEye, toLight).f : BoundBsdf(x.bsdf, toEye).eval(toLight);
+        f *= fs * absDot(toLight, x.hit.ns);
         if (i + 2 < n) {  // the edge to the next scattering vertex: its cos_g and 1 / d^2
             const PathVertex& next = path[i + 1];
             f *= geometricCos(next, toLight) / lengthSquared(next.p - x.p);
@@ -58,12 +60,13 @@ Rgb pathContribution(const RenderScene& scene, const Camera& camera,
 }
 
 float pathLuminance(const RenderScene& scene, const Camera& camera,
-                    std::span<const PathVertex> path) {
-    return luminance(pathContribution(scene, camera, path));
+                    std::span<const PathVertex> path, DiracVertices dirac) {
+    return luminance(pathContribution(scene, camera, path, dirac));
 }
 
 std::vector<VertexDensities> recomputeDensities(const RenderScene& scene, const Camera& camera,
-                                                std::span<const PathVertex> path) {
+                                                std::span<const PathVertex> path,
+                                                DiracVertices dirac) {
     size_t n = path.size();
     std::vector<VertexDensities> x(n);
     if (n < 2) return x;
@@ -74,11 +77,21 @@ std::vector<VertexDensities> recomputeDensities(const RenderScene& scene, const 
     Vec3f w01 = unitTo(x0, x1);
     x[1].fromEye = camera.isOrthographic() ? camera.directionPdf(w01) * geometricCos(x1, w01)
                                            : solidAngleToArea(camera.directionPdf(w01), x0, x1);
-    // BSDF-sampled densities, one way then the other; a Dirac vertex generates "0" (mis.h).
+    // BSDF-sampled densities, one way then the other; a Dirac vertex generates "0" (mis.h) or
+    // its branch's probability (dirac_vertex.h; `from` < `to`: sampled from the camera side).
     auto bsdfDensity = [&](size_t at, size_t from, size_t to) {
         const PathVertex& v = path[at];
-        if (v.delta || !v.isSurface()) return 0.0f;
-        float pdf = BoundBsdf(v.bsdf, unitTo(v, path[from])).pdf(unitTo(v, path[to]));
+        if (!v.isSurface() || (v.delta && dirac == DiracVertices::Zero)) return 0.0f;
+        Vec3f wFrom = unitTo(v, path[from]), wTo = unitTo(v, path[to]);
+        float pdf = 0;
+        if (!v.delta) {
+            pdf = BoundBsdf(v.bsdf, wFrom).pdf(wTo);
+        } else if (from < to) {
+            pdf = diracBranch(v, wFrom, wTo).probabilityEye;
+        } else {
+            DiracBranch b = diracBranch(v, wTo, wFrom);
+            pdf = b.probabilityLight * b.jacobian;
+        }
         return solidAngleToArea(pdf, v, path[to]);
     };
     for (size_t i = 2; i < n; ++i) x[i].fromEye = bsdfDensity(i - 1, i - 2, i);

@@ -8,7 +8,8 @@
 //   is in image-plane measure: We is the pinhole importance normalised over the image plane at
 //   distance 1 (camera.h), so f is the radiance carried per unit image area, and a camera ray's
 //   f / p is exactly the path tracer's weight. For a directional light the last edge is
-//   |cos_s(x_{M-1})| alone and Le its irradiance. Dirac vertices have no finite f: zero.
+//   |cos_s(x_{M-1})| alone and Le its irradiance. Dirac vertices have no finite f: zero, or,
+//   for the MCMC methods, their branch's coefficient (dirac_vertex.h);
 // - every vertex's densities (pdfFromEye, pdfFromLight) recomputed from the geometry;
 // - the Heckbert type, the raster position;
 // - verify(): compares the cached densities with the recomputed ones;
@@ -31,20 +32,28 @@ namespace partita {
 class Camera;
 class RenderScene;
 
-/// f(x) of the path (see above); zero when a vertex is Dirac or the camera is orthographic
-/// (a delta in direction). Visibility is not tested.
+/// How Dirac vertices enter f and the densities. `Zero`: f is 0 and the densities they generate
+/// are 0, MIS's convention (mis.h). `Coefficient`: f holds each branch's coefficient and the
+/// densities its probability (and J from the light side), so that f / p is the strategy's
+/// weight and ratios f(y) / T(x->y) of the MCMC methods are exact (dirac_vertex.h).
+enum class DiracVertices { Zero, Coefficient };
+
+/// f(x) of the path (see above); zero when the camera is orthographic (a delta in direction),
+/// when a Dirac vertex has no branch linking its neighbours, and, with `Zero`, at any Dirac
+/// vertex. Visibility is not tested.
 Rgb pathContribution(const RenderScene& scene, const Camera& camera,
-                     std::span<const PathVertex> path);
+                     std::span<const PathVertex> path, DiracVertices dirac = DiracVertices::Zero);
 
 /// Scalar contribution f*(x): the luminance of f(x).
 float pathLuminance(const RenderScene& scene, const Camera& camera,
-                    std::span<const PathVertex> path);
+                    std::span<const PathVertex> path, DiracVertices dirac = DiracVertices::Zero);
 
 /// The densities of every vertex from its neighbours, from positions, normals and BSDFs alone.
 /// fromEye(x0) is 1 (the pinhole) and fromLight(x0) 0 (nothing samples the camera); at a
-/// Dirac vertex the densities it would generate are 0 (mis.h).
+/// Dirac vertex the densities it would generate follow `dirac` (see above).
 std::vector<VertexDensities> recomputeDensities(const RenderScene& scene, const Camera& camera,
-                                                std::span<const PathVertex> path);
+                                                std::span<const PathVertex> path,
+                                                DiracVertices dirac = DiracVertices::Zero);
 
 /// The Heckbert type of the path's scattering vertices x1 .. x_{M-1}.
 PathType pathType(std::span<const PathVertex> path);
