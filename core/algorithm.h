@@ -89,6 +89,9 @@ class AlgorithmRegistry {
         std::string name, description;
         BudgetKind nativeBudget;  // samples for pt/bdpt, mutations for the MCMC methods
         Factory factory;
+        /// Whether it renders through an orthographic camera (the MCMC methods connect paths to
+        /// a pinhole and need a perspective one).
+        bool orthographicCamera = true;
     };
 
     static AlgorithmRegistry& instance();

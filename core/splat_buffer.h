@@ -39,9 +39,11 @@ class SplatBuffer {
         PathType type;
         Rgb value;
     };
+    /// sorted_: splats_ stably sorted by pixel.
+    void sortByPixel();
     int width_, height_;
     std::vector<PixelSplat> splats_, sorted_;
-    std::vector<uint32_t> starts_;  // counting sort: first index of each pixel in sorted_
+    std::vector<uint32_t> starts_;  // counting sort: next free index of each pixel in sorted_
 };
 
 }  // namespace partita

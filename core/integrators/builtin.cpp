@@ -2,6 +2,7 @@
 
 #include "algorithm.h"
 #include "integrators/bdpt/bdpt_integrator.h"
+#include "integrators/mlt/mlt_integrator.h"
 #include "integrators/pt/pt_integrator.h"
 
 namespace partita {
@@ -11,6 +12,7 @@ void registerBuiltinAlgorithms() {
     std::call_once(once, [] {
         registerPathTracer();
         registerBdpt();
+        registerMlt();
     });
 }
 

@@ -43,9 +43,11 @@ struct Proposal {
 
 /// One step of the chain at (x, fx): proposes with `propose(x, rng) -> Proposal<State>`,
 /// splats both states with `splat(state, weight)` (expected values; weights summing to 1; a
-/// weight of 0 is not splatted), then moves to y with probability a. Returns a.
+/// weight of 0 is not splatted), then moves to y with probability a. Returns a; `moved`, when
+/// given, says whether the chain moved.
 template <typename State, typename Propose, typename Splat>
-double metropolisStep(State& x, double& fx, Rng& rng, Propose&& propose, Splat&& splat) {
+double metropolisStep(State& x, double& fx, Rng& rng, Propose&& propose, Splat&& splat,
+                      bool* moved = nullptr) {
     Proposal<State> y = propose(static_cast<const State&>(x), rng);
     double a = y.valid ? acceptanceProbability(fx, y.f, y.reverseOverForward) : 0;
     if (a > 0) splat(static_cast<const State&>(y.state), a);
@@ -53,10 +55,12 @@ double metropolisStep(State& x, double& fx, Rng& rng, Propose&& propose, Splat&&
     // One uniform per step whatever a is, so that a chain's random stream does not depend on
     // the acceptances before it.
     float u = rng.nextFloat();
-    if (a > 0 && double(u) < a) {
+    bool accept = a > 0 && double(u) < a;
+    if (accept) {
         x = std::move(y.state);
         fx = y.f;
     }
+    if (moved) *moved = accept;
     return a;
 }
 

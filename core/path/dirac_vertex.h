@@ -23,8 +23,8 @@ namespace partita {
 
 struct DiracBranch {
     bool valid = false;
-    Rgb f{0.0f};               // radiance-mode coefficient / |cos(w_L)| (bsdf.h's Dirac f)
-    float probabilityEye = 0;  // of picking this branch when sampling from the camera side
+    Rgb f{0.0f};                 // radiance-mode coefficient / |cos(w_L)| (bsdf.h's Dirac f)
+    float probabilityEye = 0;    // of picking this branch when sampling from the camera side
     float probabilityLight = 0;  // ... from the light side
     float jacobian = 1;          // J = dw_L / dw_E
 };

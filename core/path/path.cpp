@@ -48,7 +48,8 @@ Rgb pathContribution(const RenderScene& scene, const Camera& camera,
         const PathVertex& x = path[i];
         if (!x.isSurface() || (x.delta && dirac == DiracVertices::Zero)) return Rgb(0.0f);
         Vec3f toEye = unitTo(x, path[i - 1]), toLight = unitTo(x, path[i + 1]);
-        Rgb fs = x.delta ? diracBranch(x, toEye, toLight).f : BoundBsdf(x.bsdf, toEye).eval(toLight);
+        Rgb fs =
+            x.delta ? diracBranch(x, toEye, toLight).f : BoundBsdf(x.bsdf, toEye).eval(toLight);
         f *= fs * absDot(toLight, x.hit.ns);
         if (i + 2 < n) {  // the edge to the next scattering vertex: its cos_g and 1 / d^2
             const PathVertex& next = path[i + 1];

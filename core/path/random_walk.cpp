@@ -1,6 +1,7 @@
 #include "path/random_walk.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include "bsdfs/bound_bsdf.h"
@@ -10,6 +11,18 @@
 #include "render_scene.h"
 
 namespace partita {
+
+PathVertex surfaceVertex(const RenderScene& scene, const SurfaceHit& hit, Vec3f wo) {
+    PathVertex v;
+    v.kind = VertexKind::Surface;
+    v.p = hit.p;
+    v.ng = hit.ng;
+    v.hit = hit;
+    v.light = scene.areaLightIndex(hit);
+    v.bsdf = scene.bsdfAt(hit);
+    v.delta = BoundBsdf(v.bsdf, wo).isDelta();
+    return v;
+}
 
 namespace {
 
@@ -25,52 +38,78 @@ class Walk {
     /// when `parallel` (an orthographic camera, a directional light), the density of its origin
     /// on a plane perpendicular to it.
     void run(Ray ray, Rgb beta, float pdf, bool parallel) {
-        float startLevel = std::max(maxComponent(beta), 1e-30f);
-        float etaScale = 1;
+        startLevel_ = std::max(maxComponent(beta), 1e-30f);
         while (int(path_.size()) < settings_.maxVertices) {
-            SurfaceHit hit;
-            ++rays_;
-            if (!scene_.intersect(ray, hit)) {
-                if (mode_ == TransportMode::Radiance) addEnvironmentVertex(ray, beta, pdf);
-                return;
-            }
-            Vec3f wo = -ray.d;
-            PathVertex v = surfaceVertex(hit, wo);
-            beta *= edgeTransmittance(scene_, path_.back(), v);
-            float cosG = absDot(hit.ng, wo);
-            float density = parallel ? pdf * cosG : solidAngleToArea(pdf, path_.back(), v);
-            forwardPdf(v) = density;
-            if (mode_ == TransportMode::Importance) {
-                if (!(cosG > 0)) return;
-                beta *= absDot(hit.ns, wo) / cosG;
-            }
-            v.beta = beta;
-            path_.push_back(v);
+            if (!hitNext(ray, beta, pdf, parallel)) return;
             if (int(path_.size()) >= settings_.maxVertices) return;
-            const PathVertex& here = path_.back();
-            BoundBsdf bound(here.bsdf, wo);
-            float uc = rng_.nextFloat();
-            Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
-            BsdfSample bs;
-            if (!bound.sample(uc, u, bs, mode_)) return;
-            float cosOut = absDot(bs.wi, mode_ == TransportMode::Radiance ? hit.ns : hit.ng);
-            beta *= bs.f * (cosOut / bs.pdf);
-            if (isBlack(beta) || !isFinite(beta)) return;
-            // The density of the previous vertex when sampled from here (the reverse walk).
-            PathVertex& previous = path_[path_.size() - 2];
-            reversePdf(previous) =
-                bs.isDelta ? 0
-                           : solidAngleToArea(BoundBsdf(here.bsdf, bs.wi).pdf(wo), here, previous);
-            if (bs.isTransmission && mode_ == TransportMode::Radiance) etaScale *= sqr(bs.eta);
-            int scattering = int(path_.size()) - 1;
-            if (!survivesRoulette(scattering, beta, etaScale, startLevel)) return;
-            ray = spawnRay(hit.p, hit.ng, bs.wi);
-            pdf = bs.isDelta ? 0 : bs.pdf;
+            if (!scatter(ray, beta, pdf)) return;
             parallel = false;
         }
     }
 
+    /// Continues the walk from the path's last vertex (a surface seen from the vertex before
+    /// it): samples its BSDF, then runs on. The path's betas are not used.
+    void extend() {
+        if (path_.size() < 2 || !path_.back().isSurface()) return;
+        startLevel_ = 1;
+        wo_ = normalize(path_[path_.size() - 2].p - path_.back().p);
+        Ray ray;
+        Rgb beta(1.0f);
+        float pdf = 0;
+        if (int(path_.size()) >= settings_.maxVertices || !scatter(ray, beta, pdf)) return;
+        run(ray, beta, pdf, false);
+    }
+
   private:
+    /// Traces `ray` from the last vertex and appends the surface it hits; false when it misses
+    /// (the environment's vertex is appended first, for camera walks) or the vertex is useless.
+    bool hitNext(const Ray& ray, Rgb& beta, float pdf, bool parallel) {
+        SurfaceHit hit;
+        ++rays_;
+        if (!scene_.intersect(ray, hit)) {
+            if (mode_ == TransportMode::Radiance) addEnvironmentVertex(ray, beta, pdf);
+            return false;
+        }
+        Vec3f wo = wo_ = -ray.d;
+        PathVertex v = surfaceVertex(scene_, hit, wo);
+        beta *= edgeTransmittance(scene_, path_.back(), v);
+        float cosG = absDot(hit.ng, wo);
+        float density = parallel ? pdf * cosG : solidAngleToArea(pdf, path_.back(), v);
+        forwardPdf(v) = density;
+        if (mode_ == TransportMode::Importance) {
+            if (!(cosG > 0)) return false;
+            beta *= absDot(hit.ns, wo) / cosG;
+        }
+        v.beta = beta;
+        path_.push_back(v);
+        return true;
+    }
+
+    /// Samples the BSDF of the last vertex: the next ray, the throughput and the direction's
+    /// density; false when the walk ends there (no sample, black, Russian roulette).
+    bool scatter(Ray& ray, Rgb& beta, float& pdf) {
+        const PathVertex& here = path_.back();
+        Vec3f wo = wo_;
+        BoundBsdf bound(here.bsdf, wo);
+        float uc = rng_.nextFloat();
+        Vec2f u{rng_.nextFloat(), rng_.nextFloat()};
+        BsdfSample bs;
+        if (!bound.sample(uc, u, bs, mode_)) return false;
+        float cosOut = absDot(bs.wi, mode_ == TransportMode::Radiance ? here.hit.ns : here.hit.ng);
+        beta *= bs.f * (cosOut / bs.pdf);
+        if (isBlack(beta) || !isFinite(beta)) return false;
+        // The density of the previous vertex when sampled from here (the reverse walk).
+        PathVertex& previous = path_[path_.size() - 2];
+        reversePdf(previous) =
+            bs.isDelta ? 0 : solidAngleToArea(BoundBsdf(here.bsdf, bs.wi).pdf(wo), here, previous);
+        if (bs.isTransmission && mode_ == TransportMode::Radiance) etaScale_ *= sqr(bs.eta);
+        int scattering = int(path_.size()) - 1;
+        if (!survivesRoulette(scattering, beta)) return false;
+        ray = spawnRay(here.hit.p, here.hit.ng, bs.wi);
+        pdf = bs.isDelta ? 0 : bs.pdf;
+        return true;
+    }
+
     /// A camera ray that leaves the scene reaches the environment, if there is one: a vertex
     /// at infinity, with the ray's direction density (solid angle) as its density.
     void addEnvironmentVertex(const Ray& ray, Rgb beta, float pdf) {
@@ -84,18 +123,6 @@ class Walk {
         path_.push_back(v);
     }
 
-    PathVertex surfaceVertex(const SurfaceHit& hit, Vec3f wo) const {
-        PathVertex v;
-        v.kind = VertexKind::Surface;
-        v.p = hit.p;
-        v.ng = hit.ng;
-        v.hit = hit;
-        v.light = scene_.areaLightIndex(hit);
-        v.bsdf = scene_.bsdfAt(hit);
-        v.delta = BoundBsdf(v.bsdf, wo).isDelta();
-        return v;
-    }
-
     /// The density in the walk's own direction, and the other one.
     float& forwardPdf(PathVertex& v) const {
         return mode_ == TransportMode::Radiance ? v.pdfFromEye : v.pdfFromLight;
@@ -106,9 +133,9 @@ class Walk {
 
     /// pt's rule: from the given number of scattering vertices on, survive with probability
     /// min(1, throughput) (relative to the start for light walks), at least 0.05.
-    bool survivesRoulette(int scattering, Rgb& beta, float etaScale, float startLevel) {
+    bool survivesRoulette(int scattering, Rgb& beta) {
         if (scattering < settings_.rouletteStartDepth) return true;
-        float survival = std::min(1.0f, maxComponent(beta) * etaScale / startLevel);
+        float survival = std::min(1.0f, maxComponent(beta) * etaScale_ / startLevel_);
         if (survival >= 1) return true;
         survival = std::max(survival, 0.05f);
         if (rng_.nextFloat() >= survival) return false;
@@ -122,6 +149,8 @@ class Walk {
     TransportMode mode_;
     std::vector<PathVertex>& path_;
     uint64_t& rays_;
+    float startLevel_ = 1, etaScale_ = 1;
+    Vec3f wo_;  // at the last vertex, towards the one before it
 };
 
 }  // namespace
@@ -195,6 +224,14 @@ void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& s
                                 : spawnRay(e.origin, e.normal, e.direction);
     Walk(scene, rng, settings, TransportMode::Importance, out, rays)
         .run(ray, beta, infinite ? e.pdfPos : e.pdfDir, infinite);
+}
+
+void extendSubpath(const RenderScene& scene, Rng& rng, TransportMode mode, int count,
+                   std::vector<PathVertex>& path, uint64_t& rays) {
+    WalkSettings settings;
+    settings.maxVertices = int(path.size()) + count;
+    settings.rouletteStartDepth = INT32_MAX;
+    Walk(scene, rng, settings, mode, path, rays).extend();
 }
 
 }  // namespace partita

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bsdf.h"
 #include "path/path_vertex.h"
 #include "ray.h"
 #include "rng.h"
@@ -38,6 +39,19 @@ void traceCameraSubpath(const RenderScene& scene, const Camera& camera, const Ra
 /// Empty when the scene has no light or the light sends nothing.
 void traceLightSubpath(const RenderScene& scene, Rng& rng, const WalkSettings& settings,
                        std::vector<PathVertex>& out, uint64_t& rays);
+
+/// Up to `count` more vertices on `path` (at least two vertices, the last a surface), sampling
+/// the last vertex's BSDF given the one before it and walking on, without Russian roulette: a
+/// camera-side walk for TransportMode::Radiance, a light-side one (the path stored light
+/// first) for Importance. Fewer are added when the walk escapes or is absorbed; a camera walk
+/// that escapes into the environment appends its vertex. The bidirectional mutation's
+/// additions (its densities come from recomputeDensities, not from the walk).
+void extendSubpath(const RenderScene& scene, Rng& rng, TransportMode mode, int count,
+                   std::vector<PathVertex>& path, uint64_t& rays);
+
+/// The surface vertex of `hit`, seen from the direction wo (its BSDF, Dirac flag, area light);
+/// densities and throughput left unset.
+PathVertex surfaceVertex(const RenderScene& scene, const SurfaceHit& hit, Vec3f wo);
 
 /// What the light vertex v sends towards the point `towards`: radiance (area lights, the
 /// environment), intensity (point, spot) or irradiance (directional), before any geometry.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "algorithm.h"
 #include "camera.h"
@@ -78,12 +79,13 @@ TEST_P(EveryAlgorithm, MaxDepthTruncatesTheNeumannSeries) {
     EXPECT_NEAR(m.mean, expected, test::statisticalTolerance(m, expected));
 }
 
-/// A Lambertian floor (albedo rho) under a point light of intensity I at height h, seen by an
-/// orthographic camera looking straight down: L(x, z) = rho / pi * I * h / d^3. The expected
-/// pixel value is L averaged over the pixel's tent filter, computed here by Gauss-Legendre
-/// quadrature, an estimator independent of the renderer.
-TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadrature) {
-    const float rho = 0.8f, intensity = 5.0f, h = 1.0f, halfExtent = 1.0f;
+/// A Lambertian floor (albedo rho) under a point light of intensity I at height h, seen from
+/// above: L(x, z) = rho / pi * I * h / d^3, whatever the view direction. The expected pixel value
+/// is L at the floor point each camera ray reaches, averaged over the pixel's tent filter by
+/// Gauss-Legendre quadrature: an estimator independent of the renderer.
+void expectPointLightOverLambertPlane(const std::string& algorithm, CameraDesc cam,
+                                      const std::function<RenderSettings(uint64_t)>& settings) {
+    const float rho = 0.8f, intensity = 5.0f, h = 1.0f;
     const int res = 12;
     SceneData s;
     s.materials = {test::lambertMaterial(Rgb(rho))};
@@ -93,14 +95,12 @@ TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadrature) {
     light.intensity = intensity;
     light.position = {0.3f, h, -0.2f};
     s.lights.push_back(light);
-    CameraDesc cam = test::lookAtCamera({0, 5, 0}, {0, 0, 0}, 1.0f);
-    cam.type = CameraDesc::Type::Orthographic;
-    cam.ymag = halfExtent;
     s.cameras.push_back(cam);
     RenderScene scene(std::move(s));
 
-    auto radiance = [&](double x, double z) {
-        double dx = x - 0.3, dz = z + 0.2;
+    auto radiance = [&](const Ray& ray) {
+        double t = -double(ray.o.y) / ray.d.y;  // the floor y = 0
+        double dx = ray.o.x + t * ray.d.x - 0.3, dz = ray.o.z + t * ray.d.z + 0.2;
         double d2 = dx * dx + dz * dz + h * h;
         return rho / M_PI * intensity * h / (d2 * std::sqrt(d2));
     };
@@ -120,17 +120,17 @@ TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadrature) {
                     for (int j = 0; j < 8; ++j) {
                         double u = (gx[i] + 1) / 2 - hx, v = (gx[j] + 1) / 2 - hy;  // in [-1, 1]
                         double w = gw[i] / 2 * gw[j] / 2 * (1 - std::abs(u)) * (1 - std::abs(v));
-                        Ray ray = camera.generateRay({float(px + 0.5 + u), float(py + 0.5 + v)});
-                        sum += w * radiance(ray.o.x, ray.o.z);
+                        sum += w * radiance(camera.generateRay(
+                                       {float(px + 0.5 + u), float(py + 0.5 + v)}));
                     }
         return sum;
     };
     const int seeds = 8;
     std::vector<std::vector<double>> perPixel(size_t(res * res));
     for (int seed = 0; seed < seeds; ++seed) {
-        RenderSettings st = smallSettings(8, 100 + seed, 1);
+        RenderSettings st = settings(100 + uint64_t(seed));
         st.width = st.height = res;
-        RenderResult r = renderWith(scene, GetParam(), st);
+        RenderResult r = renderWith(scene, algorithm, st);
         for (int y = 0; y < res; ++y)
             for (int x = 0; x < res; ++x)
                 perPixel[size_t(y * res + x)].push_back(r.image.combined.at(x, y).y);
@@ -143,6 +143,23 @@ TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadrature) {
             EXPECT_NEAR(m.mean, want, test::statisticalTolerance(m, want, res * res))
                 << "pixel " << x << "," << y;
         }
+}
+
+TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadratureOrthographic) {
+    if (!AlgorithmRegistry::instance().find(GetParam())->orthographicCamera)
+        GTEST_SKIP() << GetParam() << " needs a perspective camera";
+    CameraDesc cam = test::lookAtCamera({0, 5, 0}, {0, 0, 0}, 1.0f);
+    cam.type = CameraDesc::Type::Orthographic;
+    cam.ymag = 1.0f;
+    expectPointLightOverLambertPlane(GetParam(), cam,
+                                     [&](uint64_t seed) { return smallSettings(8, seed, 1); });
+}
+
+TEST_P(EveryAlgorithm, PointLightOverLambertPlaneMatchesQuadraturePerspective) {
+    // Below the light, so that the light itself is out of view (pt cannot see a point light).
+    CameraDesc cam = test::lookAtCamera({0, 0.6f, 0.01f}, {0, 0, 0}, 1.2f);
+    expectPointLightOverLambertPlane(GetParam(), cam,
+                                     [&](uint64_t seed) { return smallSettings(8, seed, 1); });
 }
 
 /// A cube of albedo rho (flat faces: shading and geometric normals agree) under a uniform

@@ -1,0 +1,172 @@
+#include "integrators/mlt/mlt_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "camera.h"
+#include "mcmc/bootstrap.h"
+#include "mcmc/chain_runner.h"
+#include "path/path.h"
+#include "progress_reporter.h"
+#include "render_scene.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+namespace {
+
+constexpr uint64_t kBootstrapBlock = 256;
+constexpr uint64_t kResampleStream = 0x52534d50ull;        // "RSMP"
+constexpr uint64_t kChainStreams = 0x434841494eull << 24;  // "CHAIN"
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
+                             uint64_t samples) {
+    ProgressReporter progress(ctx.observer, "bootstrap", "samples", double(samples));
+    uint64_t blocks = (samples + kBootstrapBlock - 1) / kBootstrapBlock;
+    struct Block {
+        std::vector<BootstrapCandidate> candidates;
+        double sum = 0;
+        uint64_t rays = 0;
+    };
+    std::vector<Block> done(blocks);
+    ctx.pool.parallelFor(size_t(blocks), [&](size_t k) {
+        Block& block = done[k];
+        uint64_t first = k * kBootstrapBlock, end = std::min(samples, first + kBootstrapBlock);
+        for (uint64_t i = first; i < end; ++i) {
+            if ((i & 15) == 0) ctx.throwIfCancelled();
+            block.sum += sampler.sample(i, block.candidates, block.rays);
+        }
+        progress.advance(double(end - first));
+    });
+    progress.flush();
+    BootstrapResult r;
+    r.samples = samples;
+    double sum = 0;
+    for (Block& block : done) {  // in block order: the same sums for any thread count
+        sum += block.sum;
+        r.rays += block.rays;
+        r.candidates.insert(r.candidates.end(), block.candidates.begin(), block.candidates.end());
+    }
+    r.b = samples > 0 ? sum / double(samples) : 0;
+    return r;
+}
+
+ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
+                        const BootstrapResult& bootstrap, int chains, uint64_t mutations) {
+    ChainPlan plan;
+    plan.seed = ctx.settings.seed;
+    plan.bootstrapSamples = bootstrap.samples;
+    plan.groups.push_back({"all", bootstrap.b});
+    Rng rng(ctx.settings.seed, kResampleStream);
+    std::vector<size_t> starts = resampleCandidates(bootstrap.candidates, size_t(chains), rng);
+    uint64_t rays = 0;
+    for (size_t k = 0; k < starts.size(); ++k) {
+        // A candidate whose path carries nothing as a state (rare: f* rounds to 0 once the path
+        // is rebuilt) gives its chain to the next candidate.
+        MarkovPath path;
+        bool found = false;
+        for (size_t c = starts[k]; c < bootstrap.candidates.size() && !found; ++c) {
+            if (!sampler.regenerate(bootstrap.candidates[c], path, rays)) continue;
+            std::vector<uint8_t> bytes = serializePath(path.vertices);
+            MarkovPath rebuilt;
+            rebuilt.vertices = deserializePath(ctx.scene, ctx.camera, bytes);
+            if (!evaluatePath(ctx.scene, ctx.camera, rebuilt)) continue;
+            PlannedChain chain;
+            chain.stream = kChainStreams + k;
+            chain.mutations = chainShare(mutations, starts.size(), k);
+            chain.start = std::move(bytes);
+            plan.chains.push_back(std::move(chain));
+            found = true;
+        }
+    }
+    return plan;
+}
+
+RenderResult MltAlgorithm::render(const RenderContext& ctx) {
+    const RenderSettings& rs = ctx.settings;
+    if (!ctx.camera.isConnectable())
+        throw std::invalid_argument(
+            "mlt needs a perspective camera (its mutations connect paths "
+            "to the pinhole; an orthographic camera cannot be reached)");
+    auto start = Clock::now();
+    bool timed = rs.budgetKind == BudgetKind::Seconds;
+    double pixels = double(rs.width) * rs.height;
+    uint64_t mutations = timed ? UINT64_MAX / 4 : uint64_t(rs.budget * pixels);
+
+    BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
+    BootstrapResult bootstrap = runBootstrap(ctx, sampler, settings_.bootstrapSamples);
+    double bootstrapSeconds = secondsSince(start);
+    ctx.throwIfCancelled();
+
+    uint64_t byBudget = std::max<uint64_t>(1, mutations / settings_.minMutationsPerChain);
+    int chains = int(std::min<uint64_t>(uint64_t(std::max(1, settings_.chains)), byBudget));
+    ChainPlan plan = planMltChains(ctx, sampler, bootstrap, chains, mutations);
+    auto makeMutations = [&] {
+        return makeVeachMutations(ctx.scene, ctx.camera, rs.maxDepth, settings_.mutations);
+    };
+    ChainRunner runner(ctx, plan, makeMutations, {}, settings_.roundMutations);
+    {
+        ProgressReporter progress(ctx.observer, "render", "mutations",
+                                  timed ? 0 : double(plan.mutations()),
+                                  timed ? std::max(0.0, rs.budget - bootstrapSeconds) : 0);
+        auto lastPreview = Clock::now();
+        bool first = true;
+        auto afterRound = [&](double elapsed) {
+            if (rs.previewIntervalSeconds <= 0) return;
+            if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
+            first = false;
+            lastPreview = Clock::now();
+            RenderStats st;
+            st.values["mutations"] = double(runner.mutationsDone());
+            st.values["seconds"] = elapsed + bootstrapSeconds;
+            ctx.observer.onPreview(runner.resolveGroup(0, &ctx.pool), st);
+        };
+        runner.run(progress, timed ? std::max(0.0, rs.budget - bootstrapSeconds) : 0, afterRound);
+        progress.flush();
+    }
+    double seconds = secondsSince(start);
+
+    RenderResult result;
+    result.image = runner.resolveGroup(0, nullptr);
+    RenderStats& st = result.stats;
+    st.values["b"] = bootstrap.b;
+    st.values["bootstrap_samples"] = double(bootstrap.samples);
+    st.values["bootstrap_seconds"] = bootstrapSeconds;
+    st.values["chains"] = double(plan.chains.size());
+    double done = double(runner.mutationsDone());
+    st.values["mutations"] = done;
+    st.values["mpp"] = done / pixels;
+    st.values["seconds"] = seconds;
+    double renderSeconds = seconds - bootstrapSeconds;
+    st.values["render_seconds"] = renderSeconds;
+    st.values["mutations_per_second"] = renderSeconds > 0 ? done / renderSeconds : 0;
+    double rays = double(runner.rays() + bootstrap.rays);
+    st.values["rays"] = rays;
+    st.values["rays_per_second"] = seconds > 0 ? rays / seconds : 0;
+    st.values["path_types"] = double(runner.film(0).typeCount());
+    for (const auto& [name, m] : runner.mutationStats()) {
+        st.values["proposed_" + name] = double(m.proposed);
+        st.values["acceptance_" + name] = m.proposed ? double(m.accepted) / double(m.proposed) : 0;
+    }
+    return result;
+}
+
+void registerMlt() {
+    AlgorithmRegistry::instance().add(
+        {"mlt",
+         "path-space Metropolis light transport (Veach & Guibas 1997): BDPT bootstrap, "
+         "bidirectional, lens, caustic and multi-chain mutations; per-type layers",
+         BudgetKind::MutationsPerPixel, [] { return std::make_unique<MltAlgorithm>(); },
+         /*orthographicCamera=*/false});
+}
+
+}  // namespace partita

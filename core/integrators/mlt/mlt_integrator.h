@@ -1,0 +1,50 @@
+// Path-space Metropolis light transport as an Algorithm ("mlt", Veach & Guibas 1997): a BDPT
+// bootstrap gives b and the chains' initial paths (mcmc/bootstrap.h), the chain plan fixes each
+// chain's start, random stream and mutation count (mcmc/chain_plan.h), and the chains run
+// Veach's four mutations (mcmc/veach_mutations.h) on the thread pool (mcmc/chain_runner.h),
+// splatting expected values into per-type layers. The image is I = (b / N) sum h f / f*.
+//
+// Orchestration only: budget (mutations per pixel or seconds), progress in the phases
+// "bootstrap" and "render", previews, statistics. A perspective camera is required (the
+// mutations connect to the pinhole; an orthographic camera's importance is a delta).
+#pragma once
+
+#include "algorithm.h"
+#include "integrators/mlt/mlt_settings.h"
+#include "mcmc/chain_plan.h"
+
+namespace partita {
+
+class BootstrapSampler;
+struct BootstrapCandidate;
+
+/// The bootstrap's outcome: b, the candidates, the rays traced.
+struct BootstrapResult {
+    double b = 0;
+    uint64_t samples = 0;
+    std::vector<BootstrapCandidate> candidates;
+    uint64_t rays = 0;
+};
+
+/// Runs `samples` bootstrap samples on ctx's pool in fixed blocks (deterministic for any thread
+/// count), reporting progress in the phase "bootstrap"; cancellable.
+BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
+                             uint64_t samples);
+
+/// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
+/// resampled from the bootstrap.
+ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
+                        const BootstrapResult& bootstrap, int chains, uint64_t mutations);
+
+class MltAlgorithm : public Algorithm {
+  public:
+    explicit MltAlgorithm(MltSettings settings = {}) : settings_(settings) {}
+    RenderResult render(const RenderContext& ctx) override;
+
+  private:
+    MltSettings settings_;
+};
+
+void registerMlt();
+
+}  // namespace partita

@@ -1,0 +1,22 @@
+// The settings of `mlt` with their defaults (Veach 1997, ch. 11; DESIGN.md).
+#pragma once
+
+#include <cstdint>
+
+#include "mcmc/veach_mutations.h"
+
+namespace partita {
+
+struct MltSettings {
+    /// BDPT samples of the start-up (b and the initial paths); Veach and Mitsuba use ~1e5.
+    uint64_t bootstrapSamples = 100000;
+    /// Chains: a fixed number (never the thread count, so images do not depend on it), fewer
+    /// when the budget would give a chain less than minMutationsPerChain.
+    int chains = 256;
+    uint64_t minMutationsPerChain = 32;
+    /// Mutations per chain between two merges into the film (bounds the splat buffers).
+    uint64_t roundMutations = 1024;
+    VeachMutationSettings mutations;
+};
+
+}  // namespace partita

@@ -1,0 +1,92 @@
+#include "mcmc/bootstrap.h"
+
+#include <algorithm>
+
+#include "camera.h"
+#include "mcmc/path_edits.h"
+#include "path/connection.h"
+#include "render_scene.h"
+
+namespace partita {
+
+namespace {
+constexpr uint64_t kBootstrapStream = 0x424f4f54ull << 32;  // "BOOT": apart from pixel streams
+}
+
+BootstrapSampler::BootstrapSampler(const RenderScene& scene, const Camera& camera, int maxDepth,
+                                   uint64_t seed)
+    : scene_(scene), camera_(camera), maxDepth_(maxDepth), seed_(seed) {
+    // As BDPT: a camera subpath may end on an emitter one vertex further (s = 0).
+    cameraWalk_.maxVertices = maxDepth + 2;
+    lightWalk_.maxVertices = maxDepth + 1;
+}
+
+template <typename Visit>
+void BootstrapSampler::forEachStrategy(uint64_t index, uint64_t& rays, bool keepPaths,
+                                       Visit&& visit) const {
+    Rng rng(seed_, kBootstrapStream + index);
+    Vec2f raster = sampleSupportRaster(camera_, {rng.nextFloat(), rng.nextFloat()});
+    std::vector<PathVertex> cameraPath, lightPath;
+    traceCameraSubpath(scene_, camera_, camera_.generateRay(raster), rng, cameraWalk_, cameraPath,
+                       rays);
+    traceLightSubpath(scene_, rng, lightWalk_, lightPath, rays);
+    Connector connector(scene_, camera_, keepPaths);
+    int cameraCount = int(cameraPath.size()), lightCount = int(lightPath.size());
+    for (int t = 1; t <= cameraCount; ++t)
+        for (int s = 0; s <= std::max(lightCount, 1); ++s) {
+            if (s + t < 2 || s + t - 2 > maxDepth_) continue;
+            if (s > lightCount && !(s == 1 && t > 1)) continue;
+            StrategySample c = connector.connect(cameraPath, lightPath, s, t, rng, rays);
+            if (!c.valid || !(c.weight > 0)) continue;
+            if (!visit(s, t, c, connector)) return;
+        }
+}
+
+double BootstrapSampler::sample(uint64_t index, std::vector<BootstrapCandidate>& out,
+                                uint64_t& rays) const {
+    // Camera rays are uniform over the support, not over the image: their true density is
+    // directionPdf times this scale (path_edits.h), light tracing (t = 1) does not use them.
+    float cameraScale = cameraSupportScale(camera_);
+    double sum = 0;
+    forEachStrategy(index, rays, false, [&](int s, int t, const StrategySample& c, Connector&) {
+        float weight = c.weight * luminance(c.value) / (t >= 2 ? cameraScale : 1.0f);
+        if (weight > 0 && std::isfinite(weight)) {
+            out.push_back({index, uint16_t(s), uint16_t(t), weight});
+            sum += weight;
+        }
+        return true;
+    });
+    return sum;
+}
+
+bool BootstrapSampler::regenerate(const BootstrapCandidate& candidate, MarkovPath& out,
+                                  uint64_t& rays) const {
+    bool found = false;
+    forEachStrategy(candidate.sample, rays, true,
+                    [&](int s, int t, const StrategySample&, Connector& connector) {
+                        if (s != candidate.s || t != candidate.t) return true;
+                        out.vertices = connector.lastPath();
+                        found = true;
+                        return false;
+                    });
+    return found && evaluatePath(scene_, camera_, out);
+}
+
+std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
+                                       size_t count, Rng& rng) {
+    std::vector<size_t> chosen;
+    double total = 0;
+    for (const BootstrapCandidate& c : candidates) total += c.weight;
+    if (!(total > 0) || count == 0) return chosen;
+    double u = rng.nextFloat(), running = 0;
+    size_t i = 0;
+    for (size_t k = 0; k < count; ++k) {
+        double target = (double(k) + u) / double(count) * total;
+        while (i + 1 < candidates.size() && running + candidates[i].weight <= target)
+            running += candidates[i++].weight;
+        chosen.push_back(i);
+    }
+    return chosen;
+}
+
+}  // namespace partita

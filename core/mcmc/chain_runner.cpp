@@ -1,0 +1,136 @@
+#include "mcmc/chain_runner.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "camera.h"
+#include "path/path.h"
+#include "progress_reporter.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+struct ChainRunner::Chain {
+    Chain(MutationSet set, PathRestriction restriction, MarkovPath start, Rng rng,
+          const PlannedChain& planned)
+        : mutations(std::move(set)),
+          markov(mutations.weighted, std::move(restriction), std::move(start), rng),
+          plan(planned) {}
+
+    struct Splat {
+        Vec2f raster;
+        PathType type;
+        Rgb value;
+    };
+    MutationSet mutations;
+    MarkovChain markov;
+    const PlannedChain& plan;
+    uint64_t done = 0;
+    std::vector<Splat> splats;  // of the current round
+};
+
+ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
+                         const MutationFactory& mutations, const RestrictionFactory& restrictions,
+                         uint64_t roundMutations)
+    : ctx_(ctx), plan_(plan), roundMutations_(std::max<uint64_t>(1, roundMutations)) {
+    int w = ctx.settings.width, h = ctx.settings.height;
+    for (size_t g = 0; g < plan.groups.size(); ++g) {
+        films_.emplace_back(w, h);
+        splatBuffers_.emplace_back(w, h);
+    }
+    for (const PlannedChain& c : plan.chains) {
+        MarkovPath start;
+        start.vertices = deserializePath(ctx.scene, ctx.camera, c.start);
+        if (!evaluatePath(ctx.scene, ctx.camera, start))
+            throw std::invalid_argument("chain plan: a chain's start carries nothing");
+        PathRestriction restriction = restrictions ? restrictions(c.group) : PathRestriction{};
+        chains_.push_back(std::make_unique<Chain>(mutations(), std::move(restriction),
+                                                  std::move(start), Rng(plan.seed, c.stream), c));
+    }
+}
+
+ChainRunner::~ChainRunner() = default;
+
+void ChainRunner::run(ProgressReporter& progress, double seconds,
+                      const std::function<void(double)>& afterRound) {
+    using Clock = std::chrono::steady_clock;
+    auto start = Clock::now();
+    for (;;) {
+        bool remaining = false;
+        for (const auto& c : chains_) remaining |= c->done < c->plan.mutations;
+        if (!remaining) break;
+        runRound(roundMutations_, progress);
+        addSplats();
+        double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        if (afterRound) afterRound(elapsed);
+        if (seconds > 0 && elapsed >= seconds) break;
+    }
+}
+
+void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {
+    ctx_.pool.parallelFor(chains_.size(), [&](size_t k) {
+        Chain& c = *chains_[k];
+        uint64_t steps = std::min(roundLength, c.plan.mutations - c.done);
+        c.splats.clear();
+        c.splats.reserve(size_t(2 * steps));
+        auto splat = [&](Vec2f raster, PathType type, Rgb value) {
+            c.splats.push_back({raster, type, value});
+        };
+        for (uint64_t i = 0; i < steps; ++i) {
+            if ((i & 63) == 0) ctx_.throwIfCancelled();
+            c.markov.step(splat);
+        }
+        c.done += steps;
+        progress.advance(double(steps));
+    });
+}
+
+void ChainRunner::addSplats() {
+    for (const auto& c : chains_) {
+        SplatBuffer& buffer = splatBuffers_[c->plan.group];
+        for (const Chain::Splat& s : c->splats) buffer.addTent(s.raster, s.type, s.value);
+        buffer.flushInto(films_[c->plan.group]);
+        c->splats.clear();
+    }
+}
+
+LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
+    uint64_t done = mutationsDone(int(group));
+    double pixels = double(ctx_.settings.width) * ctx_.settings.height;
+    // paper Eq. 9's I_i = (b_i / N_i) sum h(x) f(x) / f*(x), with h the tent filter times the
+    // pixel count (the camera's importance is normalised over the whole image).
+    double scale = done > 0 ? plan_.groups[group].b * pixels / double(done) : 0;
+    return films_[group].resolve(float(scale), ctx_.settings.maxTypeLayers, pool);
+}
+
+uint64_t ChainRunner::mutationsDone(int group) const {
+    uint64_t n = 0;
+    for (const auto& c : chains_)
+        if (group < 0 || c->plan.group == uint32_t(group)) n += c->done;
+    return n;
+}
+
+std::vector<std::pair<std::string, MutationStats>> ChainRunner::mutationStats(int group) const {
+    std::vector<std::pair<std::string, MutationStats>> out;
+    for (const auto& c : chains_) {
+        if (group >= 0 && c->plan.group != uint32_t(group)) continue;
+        const auto& stats = c->markov.stats();
+        if (out.empty())
+            for (const WeightedMutation& m : c->mutations.weighted)
+                out.push_back({m.mutation->name(), {}});
+        for (size_t i = 0; i < stats.size() && i < out.size(); ++i) {
+            out[i].second.proposed += stats[i].proposed;
+            out[i].second.accepted += stats[i].accepted;
+            out[i].second.acceptance += stats[i].acceptance;
+        }
+    }
+    return out;
+}
+
+uint64_t ChainRunner::rays() const {
+    uint64_t n = 0;
+    for (const auto& c : chains_) n += c->markov.rays();
+    return n;
+}
+
+}  // namespace partita

@@ -1,0 +1,63 @@
+// Runs the chains of a chain plan on the thread pool (the orchestration mlt, partitioned and
+// guided share): rounds of at most `roundMutations` mutations per chain, each chain recording
+// its splats, then the splats added to its group's film chain by chain through a SplatBuffer
+// (accurate, ordered sums). The rounds are fixed by the plan, not by the threads, so the films
+// are bit-identical for any thread count. Cancellation is checked inside the chains.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "algorithm.h"
+#include "film.h"
+#include "mcmc/chain_plan.h"
+#include "mcmc/markov_chain.h"
+#include "mcmc/veach_mutations.h"
+#include "splat_buffer.h"
+
+namespace partita {
+
+class ProgressReporter;
+
+class ChainRunner {
+  public:
+    using MutationFactory = std::function<MutationSet()>;
+    /// The restriction of a group's chains (empty: none).
+    using RestrictionFactory = std::function<PathRestriction(uint32_t group)>;
+
+    /// Builds every chain from the plan; std::invalid_argument when a start is not a path of
+    /// this scene with f* > 0.
+    ChainRunner(const RenderContext& ctx, const ChainPlan& plan, const MutationFactory& mutations,
+                const RestrictionFactory& restrictions = {}, uint64_t roundMutations = 1024);
+    ~ChainRunner();
+
+    /// Runs the plan's mutations, or rounds until `seconds` have passed when seconds > 0 (then
+    /// the plan's counts are upper bounds). After each round, afterRound(elapsed seconds).
+    void run(ProgressReporter& progress, double seconds,
+             const std::function<void(double)>& afterRound = {});
+
+    /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it).
+    LayeredImage resolveGroup(uint32_t group, ThreadPool* pool) const;
+    const Film& film(uint32_t group) const { return films_[group]; }
+    uint64_t mutationsDone(int group = -1) const;
+    /// Per mutation name: proposed, accepted, sum of a, over all chains (of a group if >= 0).
+    std::vector<std::pair<std::string, MutationStats>> mutationStats(int group = -1) const;
+    uint64_t rays() const;
+
+  private:
+    struct Chain;
+    void runRound(uint64_t roundLength, ProgressReporter& progress);
+    void addSplats();
+
+    const RenderContext& ctx_;
+    const ChainPlan& plan_;
+    uint64_t roundMutations_;
+    std::vector<std::unique_ptr<Chain>> chains_;
+    std::vector<Film> films_;
+    std::vector<SplatBuffer> splatBuffers_;
+};
+
+}  // namespace partita

@@ -1,0 +1,24 @@
+#include "mcmc/markov_path.h"
+
+#include "camera.h"
+#include "path/path.h"
+
+namespace partita {
+
+bool evaluatePath(const RenderScene& scene, const Camera& camera, MarkovPath& x) {
+    x.fStar = 0;
+    x.f = Rgb(0.0f);
+    if (x.vertices.size() < 2) return false;
+    std::optional<Vec2f> raster = pathRaster(camera, x.vertices);
+    if (!raster || !camera.inImportanceSupport(*raster)) return false;
+    Rgb f = pathContribution(scene, camera, x.vertices, DiracVertices::Coefficient);
+    float fStar = luminance(f);
+    if (!(fStar > 0) || !isFinite(f)) return false;
+    x.f = f;
+    x.fStar = fStar;
+    x.raster = *raster;
+    x.type = pathType(x.vertices);
+    return true;
+}
+
+}  // namespace partita

@@ -1,0 +1,26 @@
+#include "mcmc/veach_mutations.h"
+
+#include <algorithm>
+
+#include "camera.h"
+#include "mcmc/caustic_perturbation.h"
+#include "mcmc/lens_perturbation.h"
+#include "mcmc/multi_chain_perturbation.h"
+
+namespace partita {
+
+MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, int maxDepth,
+                               const VeachMutationSettings& s) {
+    float largest = s.lensLargestFraction * float(std::max(camera.width(), camera.height()));
+    PerturbationRange pixels{s.lensSmallestPixels, std::max(largest, 2 * s.lensSmallestPixels)};
+    MutationSet set;
+    set.add(std::make_unique<BidirectionalMutation>(scene, camera, maxDepth, s.bidirectional),
+            s.bidirectionalWeight);
+    set.add(std::make_unique<LensPerturbation>(scene, camera, pixels), s.lensWeight);
+    set.add(std::make_unique<CausticPerturbation>(scene, camera, s.causticAngles), s.causticWeight);
+    set.add(std::make_unique<MultiChainPerturbation>(scene, camera, pixels, s.multiChainAngles),
+            s.multiChainWeight);
+    return set;
+}
+
+}  // namespace partita

@@ -1,0 +1,41 @@
+// Veach's four mutations with their settings and the probabilities of choosing them: the
+// mutation set of `mlt`, and of `partitioned` (which reuses it unchanged).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "mcmc/bidirectional_mutation.h"
+#include "mcmc/markov_chain.h"
+#include "mcmc/perturbation_sizes.h"
+
+namespace partita {
+
+class Camera;
+class RenderScene;
+
+struct VeachMutationSettings {
+    // Choice weights, renormalised over the mutations that apply to the current path.
+    double bidirectionalWeight = 1, lensWeight = 1, causticWeight = 1, multiChainWeight = 1;
+    BidirectionalSettings bidirectional;
+    /// Lens and multi-chain raster offsets: from 0.1 pixel to this fraction of the image's
+    /// larger side (Veach: r1 = 0.1 pixel, r2 = a tenth of the image).
+    float lensSmallestPixels = 0.1f, lensLargestFraction = 0.1f;
+    /// Caustic and multi-chain deflections, radians (Veach: 1e-4 .. 0.1).
+    PerturbationRange causticAngles{1e-4f, 0.1f}, multiChainAngles{1e-4f, 0.1f};
+};
+
+/// Mutations owned together, with their weights, for one chain.
+struct MutationSet {
+    std::vector<std::unique_ptr<Mutation>> owned;
+    std::vector<WeightedMutation> weighted;
+    void add(std::unique_ptr<Mutation> m, double weight) {
+        weighted.push_back({m.get(), weight});
+        owned.push_back(std::move(m));
+    }
+};
+
+MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, int maxDepth,
+                               const VeachMutationSettings& settings);
+
+}  // namespace partita

@@ -1,0 +1,223 @@
+// Each of Veach's mutations on its own (mcmc/): a chain that mixes the mutation under test with
+// an exact independence proposal (independent_proposal.h) must converge to the BDPT reference,
+// per path type and image region. The independence proposal alone is ergodic and exact, so a
+// wrong T ratio in the mutation under test shows up as bias. The chains' images are compared as
+// fractions of their total (the normalising constant b is the bootstrap's business, tested with
+// `mlt` itself), with tolerances from the spread over independent seeds on both sides.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "camera.h"
+#include "film.h"
+#include "gltf/gltf_loader.h"
+#include "independent_proposal.h"
+#include "mcmc/bidirectional_mutation.h"
+#include "mcmc/caustic_perturbation.h"
+#include "mcmc/lens_perturbation.h"
+#include "mcmc/markov_chain.h"
+#include "mcmc/multi_chain_perturbation.h"
+#include "render_helpers.h"
+#include "renderer.h"
+#include "splat_buffer.h"
+#include "thread_pool.h"
+
+namespace partita {
+namespace {
+
+constexpr int kWidth = 16, kHeight = 12, kMaxDepth = 6;
+constexpr int kSeeds = 12;
+constexpr int kBlocksX = 4, kBlocksY = 3;
+/// The mutation under test takes this share of the steps: the more it moves the chain, the more
+/// a wrong ratio shows.
+constexpr double kMutationShare = 0.8;
+
+struct SceneUnderTest {
+    RenderScene scene;
+    Camera camera;
+    explicit SceneUnderTest(const std::string& name)
+        : scene(loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/" + name + "/" + name + ".gltf")),
+          camera(resolveCamera(scene.data(), ""), kWidth, kHeight) {}
+};
+
+/// The statistics compared: for each of the given types, its share of the image's luminance
+/// in the whole image and in each of kBlocksX x kBlocksY blocks; then the share of every other
+/// type.
+std::vector<double> shares(const LayeredImage& image, const std::vector<std::string>& types) {
+    double total = luminance(image.combined.mean()) * kWidth * kHeight;
+    std::vector<double> out;
+    double listed = 0;
+    for (const std::string& name : types) {
+        const Image* layer = image.layer(name);
+        std::vector<double> blocks(kBlocksX * kBlocksY, 0.0);
+        for (int y = 0; y < kHeight && layer; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                blocks[size_t((y * kBlocksY / kHeight) * kBlocksX + x * kBlocksX / kWidth)] +=
+                    luminance(layer->at(x, y));
+        double whole = 0;
+        for (double b : blocks) whole += b;
+        listed += whole;
+        out.push_back(whole / total);
+        for (double b : blocks) out.push_back(b / total);
+    }
+    out.push_back(1 - listed / total);
+    return out;
+}
+
+/// The reference: BDPT at independent seeds.
+std::vector<std::vector<double>> bdptShares(const SceneUnderTest& s,
+                                            const std::vector<std::string>& types) {
+    std::vector<std::vector<double>> out;
+    for (int seed = 0; seed < kSeeds; ++seed) {
+        RenderSettings st;
+        st.width = kWidth;
+        st.height = kHeight;
+        st.budget = 256;
+        st.seed = 500 + uint64_t(seed);
+        st.maxDepth = kMaxDepth;
+        st.previewIntervalSeconds = 0;
+        out.push_back(shares(test::renderWith(s.scene, "bdpt", st).image, types));
+    }
+    return out;
+}
+
+/// The image of `chains` chains mixing `mutation` with the independence proposal (kMutationShare to
+/// the rest), each started from an independent sample and burnt in, as unnormalised splats.
+LayeredImage chainImage(const SceneUnderTest& s,
+                        const std::function<std::unique_ptr<Mutation>()>& make, uint64_t seed,
+                        std::map<std::string, MutationStats>& stats) {
+    const int chains = 16, burnIn = 200, steps = 3000;
+    ThreadPool pool(2);
+    std::vector<std::vector<std::tuple<Vec2f, PathType, Rgb>>> splats(chains);
+    std::vector<std::vector<MutationStats>> chainStats(chains);
+    std::vector<std::string> names;
+    pool.parallelFor(chains, [&](size_t k) {
+        test::IndependentBdptProposal independent(s.scene, s.camera, kMaxDepth);
+        std::unique_ptr<Mutation> mutation = make();
+        Rng rng(seed, 1000 + k);
+        MarkovPath start;
+        uint64_t rays = 0;
+        while (!independent.sample(rng, start, rays)) {
+        }
+        MarkovChain chain({{mutation.get(), kMutationShare}, {&independent, 1 - kMutationShare}},
+                          {}, start, rng);
+        auto none = [](Vec2f, PathType, Rgb) {};
+        for (int i = 0; i < burnIn; ++i) chain.step(none);
+        auto keep = [&](Vec2f r, PathType t, Rgb v) { splats[k].emplace_back(r, t, v); };
+        for (int i = 0; i < steps; ++i) chain.step(keep);
+        chainStats[k] = chain.stats();
+    });
+    Film film(kWidth, kHeight);
+    SplatBuffer buffer(kWidth, kHeight);
+    for (const auto& chainSplats : splats) {
+        for (const auto& [r, t, v] : chainSplats) buffer.addTent(r, t, v);
+        buffer.flushInto(film);
+    }
+    std::string name = make()->name();
+    for (const auto& st : chainStats) {
+        stats[name].proposed += st[0].proposed;
+        stats[name].accepted += st[0].accepted;
+    }
+    return film.resolve(1.0f, 64);
+}
+
+/// The chain's shares against BDPT's, component by component.
+void expectConvergesToBdpt(
+    const std::string& sceneName,
+    const std::function<std::unique_ptr<Mutation>(const SceneUnderTest&)>& make,
+    uint64_t minimumAccepted) {
+    SceneUnderTest s(sceneName);
+    // The types compared: the six brightest of a BDPT image.
+    RenderSettings st;
+    st.width = kWidth;
+    st.height = kHeight;
+    st.budget = 256;
+    st.maxDepth = kMaxDepth;
+    st.previewIntervalSeconds = 0;
+    LayeredImage probe = test::renderWith(s.scene, "bdpt", st).image;
+    std::vector<std::string> types;
+    for (const auto& layer : probe.layers)
+        if (layer.name != Film::kOtherLayer && types.size() < 6) types.push_back(layer.name);
+    std::vector<std::vector<double>> reference = bdptShares(s, types);
+    std::vector<std::vector<double>> chains;
+    std::map<std::string, MutationStats> stats;
+    for (int seed = 0; seed < kSeeds; ++seed)
+        chains.push_back(shares(chainImage(
+                                    s, [&] { return make(s); }, 900 + uint64_t(seed), stats),
+                                types));
+    size_t components = reference[0].size();
+    for (size_t c = 0; c < components; ++c) {
+        std::vector<double> a, b;
+        for (const auto& v : chains) a.push_back(v[c]);
+        for (const auto& v : reference) b.push_back(v[c]);
+        auto ma = test::meanAndError(a), mb = test::meanAndError(b);
+        std::string what = c + 1 == components ? "other types"
+                                               : types[c / (1 + kBlocksX * kBlocksY)] + " region " +
+                                                     std::to_string(c % (1 + kBlocksX * kBlocksY));
+        EXPECT_NEAR(ma.mean, mb.mean, test::twoSampleTolerance(ma, mb, int(components)))
+            << what << ": chain " << ma.mean << " +- " << ma.standardError << ", bdpt " << mb.mean
+            << " +- " << mb.standardError;
+    }
+    for (const auto& [name, m] : stats) {
+        EXPECT_GE(m.accepted, minimumAccepted)
+            << name << " was hardly used: the test proves nothing";
+        std::printf("[ info     ] %s on %s: %llu proposed, %llu accepted\n", name.c_str(),
+                    sceneName.c_str(), (unsigned long long)m.proposed,
+                    (unsigned long long)m.accepted);
+    }
+}
+
+TEST(Mutations, BidirectionalConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<BidirectionalMutation>(s.scene, s.camera, kMaxDepth);
+        },
+        10000);
+}
+
+TEST(Mutations, LensPerturbationConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<LensPerturbation>(s.scene, s.camera,
+                                                      PerturbationRange{0.1f, 1.6f});
+        },
+        10000);
+}
+
+TEST(Mutations, CausticPerturbationConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<CausticPerturbation>(s.scene, s.camera,
+                                                         PerturbationRange{1e-4f, 0.1f});
+        },
+        1000);
+}
+
+TEST(Mutations, MultiChainPerturbationConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<MultiChainPerturbation>(
+                s.scene, s.camera, PerturbationRange{0.1f, 1.6f}, PerturbationRange{1e-4f, 0.1f});
+        },
+        1000);
+}
+
+}  // namespace
+}  // namespace partita
+namespace partita {
+namespace {
+TEST(Mutations, IndependenceProposalAloneConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<test::IndependentBdptProposal>(s.scene, s.camera, kMaxDepth);
+        },
+        10000);
+}
+}  // namespace
+}  // namespace partita
