@@ -31,6 +31,9 @@ std::string validateSettings(const RenderSettings& s, const RenderLimits& limits
         err << "radius R " << s.guideRadius << " is outside (0, 4096]";
     else if (!std::isfinite(s.guideEpsilon) || s.guideEpsilon <= 0 || s.guideEpsilon > 1)
         err << "epsilon " << s.guideEpsilon << " is outside (0, 1]";
+    else if (s.bootstrapSamples > limits.maxBootstrapSamples)
+        err << "bootstrap samples " << s.bootstrapSamples << " exceed the limit of "
+            << limits.maxBootstrapSamples;
     else if (s.maxTypeLayers < 0 || s.maxTypeLayers > 1024)
         err << "max type layers " << s.maxTypeLayers << " is outside 0..1024";
     else if (!std::isfinite(s.previewIntervalSeconds) || s.previewIntervalSeconds < 0)

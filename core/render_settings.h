@@ -35,6 +35,8 @@ struct RenderSettings {
     int guideCandidates = 128;   // |Y'|
     float guideRadius = 10;      // R, pixels
     float guideEpsilon = 0.01f;  // epsilon of Eq. 17
+    /// Samples of the MCMC methods' start-up (mlt's BDPT bootstrap); 0: the algorithm's default.
+    uint64_t bootstrapSamples = 0;
 
     EnvironmentSettings environment;
 
@@ -48,6 +50,7 @@ struct RenderLimits {
     double maxSamplesPerPixel = 1 << 20;
     double maxSeconds = 7 * 24 * 3600.0;
     int maxDepth = 1024;
+    uint64_t maxBootstrapSamples = uint64_t(1) << 30;
 };
 
 /// Returns an empty string when the settings are valid, else one line saying what is wrong.

@@ -69,6 +69,7 @@ std::map<std::string, std::string> describeRender(const std::string& algorithm,
     m["partita:y"] = str(s.guideCandidates);
     m["partita:radius"] = str(s.guideRadius);
     m["partita:epsilon"] = str(s.guideEpsilon);
+    if (s.bootstrapSamples > 0) m["partita:bootstrap"] = str(s.bootstrapSamples);
     const EnvironmentSettings& env = s.environment;
     if (env.enabled()) {
         m["partita:environment"] =

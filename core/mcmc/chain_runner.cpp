@@ -1,5 +1,6 @@
 #include "mcmc/chain_runner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -55,15 +56,27 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
                       const std::function<void(double)>& afterRound) {
     using Clock = std::chrono::steady_clock;
     auto start = Clock::now();
+    // A time budget is not reproducible anyway, so its rounds shrink to a fraction of a second
+    // (to stop close to the budget); a mutation budget keeps the fixed rounds of the plan.
+    uint64_t roundLength = seconds > 0 ? std::min<uint64_t>(64, roundMutations_) : roundMutations_;
     for (;;) {
         bool remaining = false;
         for (const auto& c : chains_) remaining |= c->done < c->plan.mutations;
         if (!remaining) break;
-        runRound(roundMutations_, progress);
+        auto roundStart = Clock::now();
+        runRound(roundLength, progress);
         addSplats();
-        double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        auto now = Clock::now();
+        double elapsed = std::chrono::duration<double>(now - start).count();
         if (afterRound) afterRound(elapsed);
         if (seconds > 0 && elapsed >= seconds) break;
+        if (seconds > 0) {
+            double roundSeconds = std::chrono::duration<double>(now - roundStart).count();
+            double perMutation = roundSeconds / double(roundLength);
+            double target = std::min(0.25, std::max(0.0, seconds - elapsed));
+            roundLength = uint64_t(
+                std::clamp(target / std::max(perMutation, 1e-12), 1.0, double(roundMutations_)));
+        }
     }
 }
 

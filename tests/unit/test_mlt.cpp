@@ -245,3 +245,20 @@ TEST(Mlt, RefusesAnOrthographicCamera) {
 
 }  // namespace
 }  // namespace partita
+
+namespace partita {
+namespace {
+
+TEST(Mlt, BootstrapSamplesAreASettingWithALimit) {
+    RenderSettings st = tinySettings(4, 1);
+    st.budgetKind = BudgetKind::MutationsPerPixel;
+    st.bootstrapSamples = 3000;
+    EXPECT_EQ(validateSettings(st), "");
+    RenderResult r = test::renderWith(loadScene("cornell"), "mlt", st);
+    EXPECT_EQ(r.stats.values["bootstrap_samples"], 3000.0);
+    st.bootstrapSamples = RenderLimits{}.maxBootstrapSamples + 1;
+    EXPECT_NE(validateSettings(st).find("bootstrap samples"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace partita

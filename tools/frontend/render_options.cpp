@@ -39,6 +39,9 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
         ->capture_default_str();
     app.add_option("--radius", s.guideRadius, "R: guide radius in pixels")->capture_default_str();
     app.add_option("--epsilon", s.guideEpsilon, "epsilon of Eq. 17")->capture_default_str();
+    app.add_option("--bootstrap", s.bootstrapSamples,
+                   "start-up samples of the MCMC methods (mlt: BDPT bootstrap; 0: 100000)")
+        ->capture_default_str();
     app.add_option("--layers", s.maxTypeLayers, "path-type layers kept in the EXR before 'other'")
         ->capture_default_str();
     app.add_option("--environment", s.environment.file,

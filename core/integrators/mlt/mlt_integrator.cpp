@@ -103,7 +103,9 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     uint64_t mutations = timed ? UINT64_MAX / 4 : uint64_t(rs.budget * pixels);
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
-    BootstrapResult bootstrap = runBootstrap(ctx, sampler, settings_.bootstrapSamples);
+    uint64_t bootstrapSamples =
+        rs.bootstrapSamples > 0 ? rs.bootstrapSamples : settings_.bootstrapSamples;
+    BootstrapResult bootstrap = runBootstrap(ctx, sampler, bootstrapSamples);
     double bootstrapSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 

@@ -8,7 +8,8 @@
 namespace partita {
 
 struct MltSettings {
-    /// BDPT samples of the start-up (b and the initial paths); Veach and Mitsuba use ~1e5.
+    /// BDPT samples of the start-up (b and the initial paths); Veach and Mitsuba use ~1e5. A
+    /// job's RenderSettings::bootstrapSamples, when set, wins.
     uint64_t bootstrapSamples = 100000;
     /// Chains: a fixed number (never the thread count, so images do not depend on it), fewer
     /// when the budget would give a chain less than minMutationsPerChain.
