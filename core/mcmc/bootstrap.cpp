@@ -14,8 +14,8 @@ constexpr uint64_t kBootstrapStream = 0x424f4f54ull << 32;  // "BOOT": apart fro
 }
 
 BootstrapSampler::BootstrapSampler(const RenderScene& scene, const Camera& camera, int maxDepth,
-                                   uint64_t seed)
-    : scene_(scene), camera_(camera), maxDepth_(maxDepth), seed_(seed) {
+                                   uint64_t seed, StartupEstimator estimator)
+    : scene_(scene), camera_(camera), maxDepth_(maxDepth), seed_(seed), estimator_(estimator) {
     // As BDPT: a camera subpath may end on an emitter one vertex further (s = 0).
     cameraWalk_.maxVertices = maxDepth + 2;
     lightWalk_.maxVertices = maxDepth + 1;
@@ -29,11 +29,17 @@ void BootstrapSampler::forEachStrategy(uint64_t index, uint64_t& rays, bool keep
     std::vector<PathVertex> cameraPath, lightPath;
     traceCameraSubpath(scene_, camera_, camera_.generateRay(raster), rng, cameraWalk_, cameraPath,
                        rays);
+    // A path tracer still draws the light subpath, so that both estimators consume the same
+    // random numbers up to here (its next-event estimation samples its own light vertex).
     traceLightSubpath(scene_, rng, lightWalk_, lightPath, rays);
     Connector connector(scene_, camera_, keepPaths);
+    bool pathTracer = estimator_ == StartupEstimator::PathTracer;
+    if (pathTracer) connector.restrictToPathTracer();
     int cameraCount = int(cameraPath.size()), lightCount = int(lightPath.size());
+    int maxS = pathTracer ? 1 : std::max(lightCount, 1);
     for (int t = 1; t <= cameraCount; ++t)
-        for (int s = 0; s <= std::max(lightCount, 1); ++s) {
+        for (int s = 0; s <= maxS; ++s) {
+            if (pathTracer && t == 1) continue;  // light tracing is not a path tracer's
             if (s + t < 2 || s + t - 2 > maxDepth_) continue;
             if (s > lightCount && !(s == 1 && t > 1)) continue;
             StrategySample c = connector.connect(cameraPath, lightPath, s, t, rng, rays);
@@ -51,7 +57,7 @@ double BootstrapSampler::sample(uint64_t index, std::vector<BootstrapCandidate>&
     forEachStrategy(index, rays, false, [&](int s, int t, const StrategySample& c, Connector&) {
         float weight = c.weight * luminance(c.value) / (t >= 2 ? cameraScale : 1.0f);
         if (weight > 0 && std::isfinite(weight)) {
-            out.push_back({index, uint16_t(s), uint16_t(t), weight});
+            out.push_back({index, uint16_t(s), uint16_t(t), weight, c.type});
             sum += weight;
         }
         return true;

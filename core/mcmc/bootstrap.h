@@ -30,11 +30,17 @@ struct BootstrapCandidate {
     uint64_t sample = 0;
     uint16_t s = 0, t = 0;
     float weight = 0;  // w f*(x) / p(x)
+    PathType type;
 };
+
+/// The strategies a start-up sample uses: all of BDPT's, or those of a path tracer with
+/// next-event estimation and MIS (s <= 1), the paper's pre-pass estimator (Sec. 4.2).
+enum class StartupEstimator { Bidirectional, PathTracer };
 
 class BootstrapSampler {
   public:
-    BootstrapSampler(const RenderScene& scene, const Camera& camera, int maxDepth, uint64_t seed);
+    BootstrapSampler(const RenderScene& scene, const Camera& camera, int maxDepth, uint64_t seed,
+                     StartupEstimator estimator = StartupEstimator::Bidirectional);
 
     /// The candidates of bootstrap sample `index`, in strategy order; returns their weight sum.
     double sample(uint64_t index, std::vector<BootstrapCandidate>& out, uint64_t& rays) const;
@@ -52,6 +58,7 @@ class BootstrapSampler {
     const Camera& camera_;
     int maxDepth_;
     uint64_t seed_;
+    StartupEstimator estimator_;
     WalkSettings cameraWalk_, lightWalk_;
 };
 

@@ -75,8 +75,9 @@ void Connector::assemble(std::span<const PathVertex> camera, int t,
     for (int i = 0; i < t; ++i) add(camera[size_t(i)]);
     for (int j = s - 1; j >= 0; --j) add(light[size_t(j)]);
     const PathVertex& last = s > 0 ? light[0] : camera[size_t(t - 1)];
-    info_.cameraConnectable = camera_.isConnectable();
+    info_.cameraConnectable = camera_.isConnectable() && !pathTracer_;  // no light tracing
     info_.lightHittable = isHittable(scene_, last.light);
+    info_.maxLightVertices = pathTracer_ ? 1 : 1 << 30;
 }
 
 StrategySample Connector::connect(std::span<const PathVertex> camera,

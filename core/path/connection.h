@@ -40,6 +40,11 @@ class Connector {
     Connector(const RenderScene& scene, const Camera& camera, bool keepPaths = false)
         : scene_(scene), camera_(camera), keepPaths_(keepPaths) {}
 
+    /// Weights only over a path tracer's strategies, emitter hits (s = 0) and next-event
+    /// estimation (s = 1, t > 1), as the paper's pre-pass estimator; connect() must then only be
+    /// called for those.
+    void restrictToPathTracer() { pathTracer_ = true; }
+
     /// Strategy (s, t) of the subpaths (which must hold at least t and s vertices). For s == 1
     /// a light vertex is sampled with `rng`. `rays` counts the shadow rays. The weight is
     /// computed with `heuristic`, or is 1 when `weighted` is false (one strategy alone).
@@ -68,6 +73,7 @@ class Connector {
     const RenderScene& scene_;
     const Camera& camera_;
     bool keepPaths_;
+    bool pathTracer_ = false;
     std::vector<PathVertex> path_;
     std::vector<VertexDensities> densities_;
     MisPathInfo info_;

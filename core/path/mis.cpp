@@ -15,7 +15,7 @@ double heuristicTerm(double ratio, MisHeuristic h) {
 
 bool strategyCanSample(std::span<const VertexDensities> x, int t, const MisPathInfo& info) {
     int n = int(x.size());
-    if (t <= 0 || t > n || n < 2) return false;
+    if (t <= 0 || t > n || n < 2 || n - t > info.maxLightVertices) return false;
     if (t == n) return info.lightHittable;
     bool eyeEnd = t == 1 ? info.cameraConnectable : x[size_t(t - 1)].connectable;
     // The light vertex ends a next-event connection (t = n - 1) from any surface; only the

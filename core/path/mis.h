@@ -31,8 +31,11 @@ struct VertexDensities {
 enum class MisHeuristic { Balance, Power };
 
 struct MisPathInfo {
-    bool cameraConnectable = true;  // a perspective pinhole: t = 1 strategies exist
+    bool cameraConnectable = true;  // a perspective pinhole: t = 1 strategies exist (if used)
     bool lightHittable = true;      // an area light: the t = n strategy exists
+    /// Only strategies with at most this many light vertices are used: 1 makes the
+    /// estimator a path tracer with next-event estimation and MIS (s = 0 and s = 1).
+    int maxLightVertices = 1 << 30;
 };
 
 /// Whether strategy t can produce the path `x` (see above).

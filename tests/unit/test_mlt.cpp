@@ -100,16 +100,17 @@ TEST(Mlt, ConvergesToBdptPerTypeOnCornellGlass) {
 
 TEST(Mlt, ConvergesToBdptPerTypeOnPool) { expectMltMatchesBdpt("pool", 64, 64, 10); }
 
-/// b from the bootstrap against the integral of f* estimated by importance sampling with the
-/// exact density of independent_proposal.h: two independent estimators of the same number.
-TEST(Mlt, BootstrapEstimatesTheIntegralOfFStar) {
+/// b from the bootstrap, with either estimator, against the integral of f* estimated by
+/// importance sampling with the exact density of independent_proposal.h: independent
+/// estimators of the same number.
+void expectBootstrapEstimatesTheIntegralOfFStar(StartupEstimator estimator) {
     RenderScene scene = loadScene("cornell-glass");
     Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
     const int seeds = 8, bootstrapSamples = 20000, isSamples = 40000;
     std::vector<double> bootstrap, importance;
     test::IndependentBdptProposal independent(scene, camera, 8);
     for (int seed = 0; seed < seeds; ++seed) {
-        BootstrapSampler sampler(scene, camera, 8, 30 + uint64_t(seed));
+        BootstrapSampler sampler(scene, camera, 8, 30 + uint64_t(seed), estimator);
         std::vector<BootstrapCandidate> candidates;
         uint64_t rays = 0;
         double b = 0;
@@ -129,6 +130,14 @@ TEST(Mlt, BootstrapEstimatesTheIntegralOfFStar) {
     EXPECT_NEAR(a.mean, b.mean, test::twoSampleTolerance(a, b))
         << "bootstrap " << a.mean << " +- " << a.standardError << ", importance sampling " << b.mean
         << " +- " << b.standardError;
+}
+
+TEST(Mlt, BootstrapEstimatesTheIntegralOfFStar) {
+    expectBootstrapEstimatesTheIntegralOfFStar(StartupEstimator::Bidirectional);
+}
+
+TEST(Mlt, PathTracerStartupEstimatesTheIntegralOfFStar) {
+    expectBootstrapEstimatesTheIntegralOfFStar(StartupEstimator::PathTracer);
 }
 
 TEST(Mlt, BlackSceneGivesABlackImage) {
