@@ -23,8 +23,10 @@ std::string validateSettings(const RenderSettings& s, const RenderLimits& limits
         err << "samples/mutations per pixel must be a whole number, got " << s.budget;
     else if (s.maxDepth < 1 || s.maxDepth > limits.maxDepth)
         err << "max depth " << s.maxDepth << " is outside 1.." << limits.maxDepth;
-    else if (s.partitions < 1 || s.partitions > 64)
-        err << "K (partitions) " << s.partitions << " is outside 1..64";
+    else if (s.partitions < 0 || s.partitions > 64)
+        err << "K (partitions) " << s.partitions << " is outside 0..64";
+    else if (s.prepass != "auto" && s.prepass != "pt" && s.prepass != "bdpt")
+        err << "pre-pass '" << s.prepass << "' is not one of auto, pt, bdpt";
     else if (s.guideCandidates < 1 || s.guideCandidates > 4096)
         err << "|Y'| " << s.guideCandidates << " is outside 1..4096";
     else if (!std::isfinite(s.guideRadius) || s.guideRadius <= 0 || s.guideRadius > 4096)

@@ -35,8 +35,12 @@ struct RenderSettings {
     int guideCandidates = 128;   // |Y'|
     float guideRadius = 10;      // R, pixels
     float guideEpsilon = 0.01f;  // epsilon of Eq. 17
-    /// Samples of the MCMC methods' start-up (mlt's BDPT bootstrap); 0: the algorithm's default.
+    /// Samples of the MCMC methods' start-up (mlt's BDPT bootstrap, partitioned's pre-pass);
+    /// 0: the algorithm's default.
     uint64_t bootstrapSamples = 0;
+    /// The pre-pass estimator of the partitioned methods: "pt", "bdpt" or "auto" (bdpt when the
+    /// scene has a delta light).
+    std::string prepass = "auto";
 
     EnvironmentSettings environment;
 

@@ -70,6 +70,7 @@ std::map<std::string, std::string> describeRender(const std::string& algorithm,
     m["partita:radius"] = str(s.guideRadius);
     m["partita:epsilon"] = str(s.guideEpsilon);
     if (s.bootstrapSamples > 0) m["partita:bootstrap"] = str(s.bootstrapSamples);
+    m["partita:prepass"] = s.prepass;
     const EnvironmentSettings& env = s.environment;
     if (env.enabled()) {
         m["partita:environment"] =

@@ -3,6 +3,7 @@
 #include "algorithm.h"
 #include "integrators/bdpt/bdpt_integrator.h"
 #include "integrators/mlt/mlt_integrator.h"
+#include "integrators/partitioned/partitioned_integrator.h"
 #include "integrators/pt/pt_integrator.h"
 
 namespace partita {
@@ -13,6 +14,7 @@ void registerBuiltinAlgorithms() {
         registerPathTracer();
         registerBdpt();
         registerMlt();
+        registerPartitioned();
     });
 }
 

@@ -8,7 +8,7 @@ namespace partita {
 namespace {
 
 constexpr uint32_t kMagic = 0x50435450;  // "PTCP"
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: burn-in per chain
 
 class Writer {
   public:
@@ -77,6 +77,7 @@ std::vector<uint8_t> serializeChainPlan(const ChainPlan& plan) {
         w.put(c.group);
         w.put(c.stream);
         w.put(c.mutations);
+        w.put(c.burnIn);
         w.putBytes(c.start);
     }
     return w.bytes;
@@ -102,6 +103,7 @@ ChainPlan deserializeChainPlan(std::span<const uint8_t> bytes) {
         c.group = r.get<uint32_t>();
         c.stream = r.get<uint64_t>();
         c.mutations = r.get<uint64_t>();
+        c.burnIn = r.get<uint64_t>();
         c.start = r.getBytes();
         if (c.group >= plan.groups.size()) throw std::invalid_argument("chain plan: bad group");
         plan.chains.push_back(std::move(c));

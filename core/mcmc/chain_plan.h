@@ -21,6 +21,7 @@ struct PlannedChain {
     uint32_t group = 0;
     uint64_t stream = 0;  // the chain's Rng is Rng(plan.seed, stream)
     uint64_t mutations = 0;
+    uint64_t burnIn = 0;         // steps run before the first splat (not in `mutations`)
     std::vector<uint8_t> start;  // serializePath of the initial path
 };
 

@@ -45,7 +45,7 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
         if (!evaluatePath(ctx.scene, ctx.camera, start))
             throw std::invalid_argument("chain plan: a chain's start carries nothing");
         PathRestriction restriction = restrictions ? restrictions(c.group) : PathRestriction{};
-        chains_.push_back(std::make_unique<Chain>(mutations(), std::move(restriction),
+        chains_.push_back(std::make_unique<Chain>(mutations(c.group), std::move(restriction),
                                                   std::move(start), Rng(plan.seed, c.stream), c));
     }
 }
@@ -59,6 +59,7 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
     // A time budget is not reproducible anyway, so its rounds shrink to a fraction of a second
     // (to stop close to the budget); a mutation budget keeps the fixed rounds of the plan.
     uint64_t roundLength = seconds > 0 ? std::min<uint64_t>(64, roundMutations_) : roundMutations_;
+    burnIn();
     for (;;) {
         bool remaining = false;
         for (const auto& c : chains_) remaining |= c->done < c->plan.mutations;
@@ -78,6 +79,17 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
                 std::clamp(target / std::max(perMutation, 1e-12), 1.0, double(roundMutations_)));
         }
     }
+}
+
+void ChainRunner::burnIn() {
+    ctx_.pool.parallelFor(chains_.size(), [&](size_t k) {
+        Chain& c = *chains_[k];
+        auto none = [](Vec2f, PathType, Rgb) {};
+        for (uint64_t i = 0; i < c.plan.burnIn; ++i) {
+            if ((i & 63) == 0) ctx_.throwIfCancelled();
+            c.markov.step(none);
+        }
+    });
 }
 
 void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {

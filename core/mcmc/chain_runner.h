@@ -24,7 +24,8 @@ class ProgressReporter;
 
 class ChainRunner {
   public:
-    using MutationFactory = std::function<MutationSet()>;
+    /// The mutations of one chain of group g.
+    using MutationFactory = std::function<MutationSet(uint32_t group)>;
     /// The restriction of a group's chains (empty: none).
     using RestrictionFactory = std::function<PathRestriction(uint32_t group)>;
 
@@ -49,6 +50,7 @@ class ChainRunner {
 
   private:
     struct Chain;
+    void burnIn();  // every chain's burn-in steps, unsplatted
     void runRound(uint64_t roundLength, ProgressReporter& progress);
     void addSplats();
 

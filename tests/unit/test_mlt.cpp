@@ -158,7 +158,7 @@ TEST(Mlt, ChainPlanRoundTripsAndRefusesGarbage) {
     plan.seed = 7;
     plan.bootstrapSamples = 1000;
     plan.groups = {{"all", 0.25}, {"LDSSE", 1e-3}};
-    plan.chains = {{0, 11, 100, {1, 2, 3}}, {1, 12, 200, std::vector<uint8_t>(64, 9)}};
+    plan.chains = {{0, 11, 100, 0, {1, 2, 3}}, {1, 12, 200, 1024, std::vector<uint8_t>(64, 9)}};
     std::vector<uint8_t> bytes = serializeChainPlan(plan);
     ChainPlan back = deserializeChainPlan(bytes);
     EXPECT_EQ(back.seed, 7u);
@@ -169,6 +169,7 @@ TEST(Mlt, ChainPlanRoundTripsAndRefusesGarbage) {
     ASSERT_EQ(back.chains.size(), 2u);
     EXPECT_EQ(back.chains[1].stream, 12u);
     EXPECT_EQ(back.chains[1].mutations, 200u);
+    EXPECT_EQ(back.chains[1].burnIn, 1024u);
     EXPECT_EQ(back.chains[1].start, plan.chains[1].start);
     EXPECT_EQ(back.mutations(), 300u);
     EXPECT_EQ(serializeChainPlan(back), bytes);

@@ -42,6 +42,10 @@ void addRenderOptions(CLI::App& app, RenderOptions& o) {
     app.add_option("--bootstrap", s.bootstrapSamples,
                    "start-up samples of the MCMC methods (mlt: BDPT bootstrap; 0: 100000)")
         ->capture_default_str();
+    app.add_option("--prepass", s.prepass,
+                   "pre-pass of the partitioned methods: auto | pt | bdpt (auto: bdpt with delta "
+                   "lights)")
+        ->capture_default_str();
     app.add_option("--layers", s.maxTypeLayers, "path-type layers kept in the EXR before 'other'")
         ->capture_default_str();
     app.add_option("--environment", s.environment.file,

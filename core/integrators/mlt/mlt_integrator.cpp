@@ -112,7 +112,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     uint64_t byBudget = std::max<uint64_t>(1, mutations / settings_.minMutationsPerChain);
     int chains = int(std::min<uint64_t>(uint64_t(std::max(1, settings_.chains)), byBudget));
     ChainPlan plan = planMltChains(ctx, sampler, bootstrap, chains, mutations);
-    auto makeMutations = [&] {
+    auto makeMutations = [&](uint32_t) {
         return makeVeachMutations(ctx.scene, ctx.camera, rs.maxDepth, settings_.mutations);
     };
     ChainRunner runner(ctx, plan, makeMutations, {}, settings_.roundMutations);

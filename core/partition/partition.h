@@ -1,0 +1,43 @@
+// The partitions of path space (paper Sec. 4, Eq. 5-6, DESIGN.md): the K types with the largest
+// gamma in the pre-pass's half A each form a partition; every other type forms the
+// complementary partition (Eq. 6), which also gets chains. Every path belongs to exactly one.
+// P(i) = gamma(i) / sum over all K + 1 partitions; b_i, the integral of f* over partition i,
+// comes from half B: (1 / N_B) sum of C over its paths. A partition with no half-B path is
+// folded into the complement (it could not start a chain); a complement with nothing in half B
+// is dropped (so is everything when the image is black).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "partition/prepass.h"
+#include "path_type.h"
+
+namespace partita {
+
+struct Partition {
+    std::string label;            // the type string, or "complement"
+    std::vector<PathType> types;  // the types it holds; the complement: those it excludes
+    bool complement = false;
+    double gamma = 0;  // half A
+    double p = 0;      // P(i)
+    double b = 0;      // half B's estimate of the integral of f* over the partition
+
+    /// Whether a path of type t belongs here (the chains' restriction).
+    bool holds(const PathType& t) const;
+};
+
+inline constexpr const char* kComplementLabel = "complement";
+
+/// The partitions of `prepass` with up to `k` types of their own (k = 0: the complement alone,
+/// which is all of path space), ordered by decreasing gamma, the complement last.
+std::vector<Partition> makePartitions(const PrepassResult& prepass, int k);
+
+/// Mutations per partition in proportion to P(i) (the stratified form of Eq. 10), after
+/// `minimum` for every partition (when n allows), so that none with b_i > 0 goes without a
+/// chain (its share of the image would be lost): floor of the proportional share, the remainder
+/// to the largest fractional parts (ties to the lower index).
+std::vector<uint64_t> allocateMutations(const std::vector<Partition>& partitions, uint64_t n,
+                                        uint64_t minimum = 0);
+
+}  // namespace partita

@@ -1,0 +1,82 @@
+#include "partition/prepass.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "light.h"
+#include "progress_reporter.h"
+#include "render_scene.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+namespace {
+constexpr uint64_t kBlock = 256;
+}
+
+StartupEstimator choosePrepassEstimator(const RenderScene& scene, const std::string& setting,
+                                        std::string& why) {
+    if (setting == "pt") {
+        why = "pt: asked for";
+        return StartupEstimator::PathTracer;
+    }
+    if (setting == "bdpt") {
+        why = "bdpt: asked for";
+        return StartupEstimator::Bidirectional;
+    }
+    if (setting != "auto")
+        throw std::invalid_argument("pre-pass '" + setting + "' is not one of pt, bdpt, auto");
+    for (const Light& light : scene.lights())
+        if (isDeltaLight(light)) {
+            why = "bdpt: the scene has a delta light, whose caustics a path tracer cannot sample";
+            return StartupEstimator::Bidirectional;
+        }
+    why = "pt: the paper's pre-pass (no delta light in the scene)";
+    return StartupEstimator::PathTracer;
+}
+
+PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampler,
+                         uint64_t samples, uint64_t maxCandidateBytes) {
+    ProgressReporter progress(ctx.observer, "prepass", "samples", double(samples));
+    struct Block {
+        std::map<PathType, double> gamma, sumB;
+        std::vector<BootstrapCandidate> candidatesB;
+        uint64_t rays = 0;
+    };
+    uint64_t blocks = (samples + kBlock - 1) / kBlock;
+    std::vector<Block> done(blocks);
+    ctx.pool.parallelFor(size_t(blocks), [&](size_t k) {
+        Block& block = done[k];
+        std::vector<BootstrapCandidate> scratch;
+        uint64_t first = k * kBlock, end = std::min(samples, first + kBlock);
+        for (uint64_t i = first; i < end; ++i) {
+            if ((i & 15) == 0) ctx.throwIfCancelled();
+            scratch.clear();
+            sampler.sample(i, scratch, block.rays);
+            bool halfB = i % 2 == 1;
+            for (const BootstrapCandidate& c : scratch)
+                (halfB ? block.sumB : block.gamma)[c.type] += c.weight;
+            if (halfB)
+                block.candidatesB.insert(block.candidatesB.end(), scratch.begin(), scratch.end());
+        }
+        progress.advance(double(end - first));
+    });
+    progress.flush();
+    PrepassResult r;
+    r.samplesB = samples / 2;
+    r.samplesA = samples - r.samplesB;
+    size_t maxCandidates = size_t(maxCandidateBytes / sizeof(BootstrapCandidate));
+    for (Block& block : done) {  // in block order: the same sums for any thread count
+        for (const auto& [type, c] : block.gamma) r.gamma[type] += c;
+        for (const auto& [type, c] : block.sumB) r.sumB[type] += c;
+        r.rays += block.rays;
+        size_t room = maxCandidates - std::min(maxCandidates, r.candidatesB.size());
+        if (block.candidatesB.size() > room) r.candidatesTruncated = true;
+        r.candidatesB.insert(
+            r.candidatesB.end(), block.candidatesB.begin(),
+            block.candidatesB.begin() + long(std::min(room, block.candidatesB.size())));
+    }
+    return r;
+}
+
+}  // namespace partita

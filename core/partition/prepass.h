@@ -1,0 +1,49 @@
+// The pre-pass of path-space partitioning (paper Sec. 4.2, DESIGN.md "The method, precisely"):
+// N start-up samples (mcmc/bootstrap.h) whose every complete path is recorded with its type and
+// its MIS-weighted contribution C = w f* / p, split into two halves by sample index:
+// - half A (even indices) only sums C per type: gamma(i), the ranking of the types;
+// - half B (odd indices) sums C per type (for b_i) and keeps its paths as compact records
+//   (sample index, strategy, weight, type: 32 bytes, regenerated on demand), the candidates of
+//   the chains' initial states, up to a memory budget.
+// Keeping the halves apart makes the choice of partitions independent of the estimates of b_i
+// and of the initial states.
+//
+// The estimator is the paper's path tracer (next-event estimation with MIS), which cannot
+// sample delta lights seen through specular chains (a point light's caustic); "auto" uses BDPT
+// when the scene has a delta light.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "algorithm.h"
+#include "mcmc/bootstrap.h"
+#include "path_type.h"
+
+namespace partita {
+
+class RenderScene;
+
+/// `setting` is "pt", "bdpt" or "auto"; `why` receives the reason for the choice (for the job's
+/// metadata). std::invalid_argument for anything else.
+StartupEstimator choosePrepassEstimator(const RenderScene& scene, const std::string& setting,
+                                        std::string& why);
+
+struct PrepassResult {
+    uint64_t samplesA = 0, samplesB = 0;
+    std::map<PathType, double> gamma;             // half A: sum of C per type
+    std::map<PathType, double> sumB;              // half B: sum of C per type
+    std::vector<BootstrapCandidate> candidatesB;  // half B's paths, in sample order
+    bool candidatesTruncated = false;             // the memory budget was reached
+    uint64_t rays = 0;
+};
+
+/// Runs `samples` samples of `sampler` on ctx's pool in fixed blocks (the result does not
+/// depend on the thread count), reporting progress in the phase "prepass"; cancellable.
+/// Half B keeps at most `maxCandidateBytes` of records.
+PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampler,
+                         uint64_t samples, uint64_t maxCandidateBytes = uint64_t(256) << 20);
+
+}  // namespace partita
