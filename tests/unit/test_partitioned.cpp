@@ -1,0 +1,301 @@
+// `partitioned` (paper Sec. 4): the partitions cover path space exactly once, b_i agrees with an
+// independent estimate of the integral of f* over partition i, each partition's image and the
+// combined image converge to the BDPT reference (summed over each partition's types), the
+// edge cases (K = 0, fewer types than K, a black image) are defined, and a cancel stops it in
+// the pre-pass and in the chains. Tolerances come from the spread over independent seeds.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "camera.h"
+#include "film.h"
+#include "gltf/gltf_loader.h"
+#include "independent_proposal.h"
+#include "integrators/partitioned/partitioned_integrator.h"
+#include "partition/partition.h"
+#include "partition/prepass.h"
+#include "render_helpers.h"
+#include "renderer.h"
+#include "scene_builders.h"
+#include "thread_pool.h"
+
+namespace partita {
+namespace {
+
+constexpr int kWidth = 16, kHeight = 12, kBlocksX = 4, kBlocksY = 3, kMaxDepth = 8;
+
+RenderScene loadScene(const std::string& name) {
+    return RenderScene(
+        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/" + name + "/" + name + ".gltf"));
+}
+
+RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind) {
+    RenderSettings st;
+    st.width = kWidth;
+    st.height = kHeight;
+    st.budget = budget;
+    st.budgetKind = kind;
+    st.seed = seed;
+    st.maxDepth = kMaxDepth;
+    st.previewIntervalSeconds = 0;
+    st.maxTypeLayers = 1024;
+    return st;
+}
+
+/// The pre-pass and partitions of a scene, as `partitioned` makes them.
+std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint64_t seed,
+                                    uint64_t samples) {
+    Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
+    RenderSettings st = tinySettings(1, seed, BudgetKind::MutationsPerPixel);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    RenderObserver observer;
+    RenderContext ctx{scene, camera, st, pool, cancel, observer};
+    std::string why;
+    BootstrapSampler sampler(scene, camera, kMaxDepth, seed,
+                             choosePrepassEstimator(scene, "auto", why));
+    return makePartitions(runPrepass(ctx, sampler, samples), k);
+}
+
+/// Per block, the mean luminance of `image`.
+std::vector<double> blocks(const Image& image) {
+    std::vector<double> out(kBlocksX * kBlocksY, 0.0);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            out[size_t((y * kBlocksY / kHeight) * kBlocksX + x * kBlocksX / kWidth)] +=
+                luminance(image.at(x, y));
+    return out;
+}
+
+/// The reference of partition p: the BDPT image's layers of the types it holds, summed.
+Image partitionReference(const LayeredImage& bdpt, const Partition& p) {
+    Image sum(kWidth, kHeight);
+    for (const ImageLayer& layer : bdpt.layers) {
+        PathType t;
+        EXPECT_TRUE(PathType::parse(layer.name, t))
+            << "the reference dropped types: " << layer.name;
+        if (!p.holds(t)) continue;
+        for (size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += layer.image.rgb[i];
+    }
+    return sum;
+}
+
+TEST(Partitioned, PartitionsCoverPathSpaceExactlyOnce) {
+    RenderScene scene = loadScene("cornell-glass");
+    std::vector<Partition> partitions = partitionsOf(scene, 10, 3, 20000);
+    ASSERT_EQ(partitions.size(), 11u);
+    EXPECT_TRUE(partitions.back().complement);
+    LayeredImage bdpt =
+        test::renderWith(scene, "bdpt", tinySettings(64, 1, BudgetKind::SamplesPerPixel)).image;
+    // Every type of the reference lies in exactly one partition ...
+    for (const ImageLayer& layer : bdpt.layers) {
+        PathType t;
+        ASSERT_TRUE(PathType::parse(layer.name, t)) << layer.name;
+        int holders = 0;
+        for (const Partition& p : partitions) holders += p.holds(t);
+        EXPECT_EQ(holders, 1) << layer.name;
+    }
+    // ... so the partitions' references add up to the full reference, pixel by pixel.
+    Image sum(kWidth, kHeight);
+    for (const Partition& p : partitions) {
+        Image ref = partitionReference(bdpt, p);
+        for (size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += ref.rgb[i];
+    }
+    for (size_t i = 0; i < sum.rgb.size(); ++i)
+        EXPECT_NEAR(sum.rgb[i], bdpt.combined.rgb[i], 1e-5 * (1 + bdpt.combined.rgb[i])) << i;
+    double totalP = 0;
+    for (const Partition& p : partitions) totalP += p.p;
+    EXPECT_NEAR(totalP, 1.0, 1e-12);
+}
+
+/// b_i over independent pre-passes against importance sampling with the exact density of
+/// independent_proposal.h, per partition (the partitions fixed by one pre-pass).
+TEST(Partitioned, BiAgreesWithAnIndependentEstimatePerPartition) {
+    RenderScene scene = loadScene("cornell-glass");
+    Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
+    std::vector<Partition> fixed = partitionsOf(scene, 5, 3, 20000);
+    const int seeds = 8;
+    std::vector<std::vector<double>> prepassB(fixed.size()), importance(fixed.size());
+    test::IndependentBdptProposal independent(scene, camera, kMaxDepth);
+    for (int seed = 0; seed < seeds; ++seed) {
+        // b_i of the fixed partitions from a fresh pre-pass: half B's sums over their types.
+        RenderSettings st = tinySettings(1, 40 + uint64_t(seed), BudgetKind::MutationsPerPixel);
+        ThreadPool pool(2);
+        std::atomic<bool> cancel{false};
+        RenderObserver observer;
+        RenderContext ctx{scene, camera, st, pool, cancel, observer};
+        BootstrapSampler sampler(scene, camera, kMaxDepth, 40 + uint64_t(seed),
+                                 StartupEstimator::PathTracer);
+        PrepassResult pre = runPrepass(ctx, sampler, 40000);
+        std::vector<double> isSums(fixed.size(), 0.0);
+        Rng rng(80 + uint64_t(seed), 0);
+        uint64_t rays = 0;
+        const int isSamples = 40000;
+        for (int i = 0; i < isSamples; ++i) {
+            MarkovPath y;
+            if (!independent.sample(rng, y, rays)) continue;
+            for (size_t g = 0; g < fixed.size(); ++g)
+                if (fixed[g].holds(y.type)) isSums[g] += y.fStar / independent.density(y.vertices);
+        }
+        for (size_t g = 0; g < fixed.size(); ++g) {
+            double sum = 0;
+            for (const auto& [type, c] : pre.sumB)
+                if (fixed[g].holds(type)) sum += c;
+            prepassB[g].push_back(sum / double(pre.samplesB));
+            importance[g].push_back(isSums[g] / isSamples);
+        }
+    }
+    for (size_t g = 0; g < fixed.size(); ++g) {
+        auto a = test::meanAndError(prepassB[g]), b = test::meanAndError(importance[g]);
+        EXPECT_GT(a.mean, 0) << fixed[g].label;
+        EXPECT_NEAR(a.mean, b.mean, test::twoSampleTolerance(a, b, int(fixed.size())))
+            << fixed[g].label << ": pre-pass " << a.mean << " +- " << a.standardError
+            << ", importance sampling " << b.mean << " +- " << b.standardError;
+    }
+}
+
+/// Each partition's image (and the combined one) against the BDPT reference of its types, per
+/// block, over independent seeds. The partitions are those of the render's own pre-pass, which
+/// are the same for every seed only if the ranking is stable: the test compares by label.
+void expectPartitionsConverge(const std::string& sceneName, double mpp, double spp, int seeds) {
+    RenderScene scene = loadScene(sceneName);
+    std::map<std::string, std::vector<std::vector<double>>> mine, reference;
+    for (int seed = 0; seed < seeds; ++seed) {
+        RenderSettings st = tinySettings(mpp, 10 + uint64_t(seed), BudgetKind::MutationsPerPixel);
+        st.partitions = 4;
+        RenderResult r = test::renderWith(scene, "partitioned", st);
+        LayeredImage bdpt =
+            test::renderWith(scene, "bdpt",
+                             tinySettings(spp, 600 + uint64_t(seed), BudgetKind::SamplesPerPixel))
+                .image;
+        mine["combined"].push_back(blocks(r.image.combined));
+        reference["combined"].push_back(blocks(bdpt.combined));
+        std::vector<Partition> partitions = partitionsOf(scene, 4, st.seed, 100000);
+        for (const Partition& p : partitions) {
+            const Image* layer = r.image.layer(p.label);
+            ASSERT_NE(layer, nullptr) << p.label;
+            mine[p.label].push_back(blocks(*layer));
+            reference[p.label].push_back(blocks(partitionReference(bdpt, p)));
+        }
+    }
+    int comparisons = 0;
+    for (const auto& [label, runs] : mine)
+        if (int(runs.size()) == seeds) comparisons += kBlocksX * kBlocksY;
+    for (const auto& [label, runs] : mine) {
+        if (int(runs.size()) != seeds) continue;  // a partition not made by every seed
+        for (size_t c = 0; c < size_t(kBlocksX * kBlocksY); ++c) {
+            std::vector<double> a, b;
+            for (const auto& v : runs) a.push_back(v[c]);
+            for (const auto& v : reference[label]) b.push_back(v[c]);
+            auto ma = test::meanAndError(a), mb = test::meanAndError(b);
+            EXPECT_NEAR(ma.mean, mb.mean, test::twoSampleTolerance(ma, mb, comparisons))
+                << sceneName << " " << label << " block " << c << ": partitioned " << ma.mean
+                << " +- " << ma.standardError << ", bdpt " << mb.mean << " +- " << mb.standardError;
+        }
+    }
+    EXPECT_GE(mine.size(), 4u);
+}
+
+TEST(Partitioned, PartitionsConvergeOnCornellGlass) {
+    expectPartitionsConverge("cornell-glass", 64, 64, 10);
+}
+
+TEST(Partitioned, PartitionsConvergeOnDoorAjar) {
+    expectPartitionsConverge("door-ajar", 64, 64, 10);
+}
+
+TEST(Partitioned, EdgeCasesAreDefined) {
+    RenderScene scene = loadScene("cornell");
+    RenderSettings st = tinySettings(8, 1, BudgetKind::MutationsPerPixel);
+    // K = 0: the complement alone, all of path space.
+    st.partitions = 0;
+    RenderResult none = test::renderWith(scene, "partitioned", st);
+    ASSERT_EQ(none.image.layers.size(), 1u);
+    EXPECT_EQ(none.image.layers[0].name, kComplementLabel);
+    EXPECT_EQ(none.image.layers[0].image.rgb, none.image.combined.rgb);
+    // More partitions asked for than types exist: every type is a partition, no complement.
+    SceneData furnace = test::furnaceScene(0.5f, 1.0f);
+    RenderScene small(std::move(furnace));
+    st.partitions = 64;
+    st.maxDepth = 2;
+    RenderResult all = test::renderWith(small, "partitioned", st);
+    ASSERT_EQ(all.image.layers.size(), 3u);  // LE, LDE, LDDE
+    for (const auto& layer : all.image.layers) EXPECT_NE(layer.name, kComplementLabel);
+    // A black scene: no partition, a black image.
+    SceneData dark = test::specularBoxScene();
+    dark.materials[1].emissiveFactor = Rgb(0.0f);
+    RenderScene black(std::move(dark));
+    st.partitions = 10;
+    RenderResult r = test::renderWith(black, "partitioned", st);
+    EXPECT_TRUE(r.image.layers.empty());
+    EXPECT_EQ(luminance(r.image.combined.mean()), 0.0f);
+    EXPECT_EQ(r.stats.values["mutations"], 0.0);
+}
+
+TEST(Partitioned, PrepassEstimatorFollowsTheSetting) {
+    std::string why;
+    RenderScene area = loadScene("cornell-glass");
+    EXPECT_EQ(choosePrepassEstimator(area, "auto", why), StartupEstimator::PathTracer);
+    RenderScene point = loadScene("cornell-point");
+    EXPECT_EQ(choosePrepassEstimator(point, "auto", why), StartupEstimator::Bidirectional);
+    EXPECT_NE(why.find("delta light"), std::string::npos);
+    EXPECT_EQ(choosePrepassEstimator(point, "pt", why), StartupEstimator::PathTracer);
+    EXPECT_THROW(choosePrepassEstimator(point, "magic", why), std::invalid_argument);
+    RenderSettings st = tinySettings(4, 1, BudgetKind::MutationsPerPixel);
+    st.prepass = "magic";
+    EXPECT_NE(validateSettings(st).find("pre-pass"), std::string::npos);
+}
+
+/// Raises the cancel flag once `phase` has run for 0.2 s; records when.
+class CancelInPhase : public RenderObserver {
+  public:
+    CancelInPhase(std::atomic<bool>& cancel, std::string phase)
+        : cancel_(cancel), phase_(std::move(phase)) {}
+    void onProgress(const RenderProgress& p) override {
+        if (p.phase != phase_ || cancel_) return;
+        auto now = std::chrono::steady_clock::now();
+        if (!started_) {
+            started_ = true;
+            start_ = now;
+        }
+        if (std::chrono::duration<double>(now - start_).count() >= 0.2) {
+            at_ = now;
+            cancel_ = true;
+        }
+    }
+    std::atomic<bool>& cancel_;
+    std::string phase_;
+    bool started_ = false;
+    std::chrono::steady_clock::time_point start_, at_;
+};
+
+double secondsToCancel(PartitionedSettings settings, const std::string& phase) {
+    RenderScene scene = loadScene("cornell-glass");
+    RenderSettings st = tinySettings(1e6, 1, BudgetKind::MutationsPerPixel);
+    st.width = 64;
+    st.height = 48;
+    Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    CancelInPhase observer(cancel, phase);
+    RenderContext ctx{scene, camera, st, pool, cancel, observer};
+    PartitionedAlgorithm algorithm(settings);
+    EXPECT_THROW(algorithm.render(ctx), RenderCancelled);
+    EXPECT_TRUE(cancel.load()) << "the phase " << phase << " never ran long enough";
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - observer.at_).count();
+}
+
+TEST(Partitioned, CancelStopsWithinASecondInThePrepass) {
+    PartitionedSettings s;
+    s.prepassSamples = 100000000;
+    EXPECT_LT(secondsToCancel(s, "prepass"), 1.0);
+}
+
+TEST(Partitioned, CancelStopsWithinASecondInTheChains) {
+    PartitionedSettings s;
+    s.prepassSamples = 4000;
+    EXPECT_LT(secondsToCancel(s, "render"), 1.0);
+}
+
+}  // namespace
+}  // namespace partita
