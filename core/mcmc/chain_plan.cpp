@@ -8,7 +8,7 @@ namespace partita {
 namespace {
 
 constexpr uint32_t kMagic = 0x50435450;  // "PTCP"
-constexpr uint32_t kVersion = 2;  // 2: burn-in per chain
+constexpr uint32_t kVersion = 2;         // 2: burn-in per chain
 
 class Writer {
   public:

@@ -7,6 +7,8 @@
 // the densities of the retraced vertices (path_edits.h: retracedEyeDensity).
 #pragma once
 
+#include <vector>
+
 #include "mcmc/mutation.h"
 #include "mcmc/perturbation_sizes.h"
 
@@ -14,6 +16,14 @@ namespace partita {
 
 class Camera;
 class RenderScene;
+
+/// The perturbed camera prefix y_0 .. y_s of the lens and multi-chain perturbations: the raster
+/// position moved by an offset of size in `pixels`, the camera ray retraced through x's specular
+/// chain. Returns s (the first non-Dirac vertex), or -1 when the new prefix has another
+/// structure or leaves the image.
+int retraceLensPrefix(const RenderScene& scene, const Camera& camera, const MarkovPath& x,
+                      const PerturbationRange& pixels, Rng& rng, std::vector<PathVertex>& y,
+                      uint64_t& rays);
 
 class LensPerturbation : public Mutation {
   public:

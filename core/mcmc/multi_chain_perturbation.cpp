@@ -1,6 +1,7 @@
 #include "mcmc/multi_chain_perturbation.h"
 
 #include "camera.h"
+#include "mcmc/lens_perturbation.h"
 #include "mcmc/path_edits.h"
 
 namespace partita {
@@ -22,15 +23,9 @@ bool MultiChainPerturbation::appliesTo(const MarkovPath& x) const {
 
 bool MultiChainPerturbation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y,
                                      double& reverseOverForward, uint64_t& rays) {
-    int n = x.size(), s = firstNonDirac(x, 1);
-    Vec2f raster = perturbRaster(x.raster, pixels_, {rng.nextFloat(), rng.nextFloat()});
-    if (!camera_.inImportanceSupport(raster)) return false;
-    y.vertices.clear();
-    y.vertices.reserve(size_t(n));
-    y.vertices.push_back(x[0]);
-    Vec3f w = normalize(camera_.generateRay(raster).d);
-    int c = retraceChain(scene_, x, x[0], w, 1, +1, y.vertices, rays);
-    if (c != s) return false;
+    int n = x.size();
+    int c = retraceLensPrefix(scene_, camera_, x, pixels_, rng, y.vertices, rays);
+    if (c < 0) return false;
     while (continuesIntoDirac(x, c)) {
         Vec3f old = normalize(x[c + 1].p - x[c].p);
         Vec3f turned = perturbDirection(old, angles_, {rng.nextFloat(), rng.nextFloat()});

@@ -90,6 +90,36 @@ inline double sidakLevel(double alpha, int testCount) {
     return 1 - std::pow(1 - alpha, 1.0 / std::max(1, testCount));
 }
 
+/// Pearson's chi-square test of counts against probabilities times n, over the cells with a
+/// non-zero probability.
+struct Pearson {
+    double statistic = 0, pValue = 0, minExpected = 0;
+    int dof = 0;
+    std::string describe() const {
+        std::ostringstream os;
+        os << "chi2 = " << statistic << ", dof = " << dof << ", p = " << pValue
+           << ", smallest expected count = " << minExpected;
+        return os.str();
+    }
+};
+
+template <typename Counts, typename Probabilities>
+Pearson pearson(const Counts& observed, const Probabilities& probability, double n) {
+    Pearson r;
+    r.minExpected = n;
+    int cells = 0;
+    for (size_t i = 0; i < observed.size(); ++i) {
+        if (probability[i] == 0) continue;
+        double e = n * probability[i];
+        r.statistic += (observed[i] - e) * (observed[i] - e) / e;
+        r.minExpected = std::min(r.minExpected, e);
+        ++cells;
+    }
+    r.dof = cells - 1;
+    r.pValue = chi2SurvivalProbability(r.statistic, r.dof);
+    return r;
+}
+
 struct Chi2Options {
     int thetaBins = 16;
     int phiBins = 32;

@@ -161,34 +161,6 @@ TEST(Metropolis, TransitionMatrixSatisfiesDetailedBalance) {
     EXPECT_GT(stationarityViolation(wrong, pi), 0.01);
 }
 
-struct Pearson {
-    double statistic = 0, pValue = 0, minExpected = 0;
-    int dof = 0;
-    std::string describe() const {
-        std::ostringstream os;
-        os << "chi2 = " << statistic << ", dof = " << dof << ", p = " << pValue
-           << ", smallest expected count = " << minExpected;
-        return os.str();
-    }
-};
-
-/// Pearson's statistic of `observed` against n * pi over the states with pi > 0.
-Pearson pearson(const Distribution& observed, const Distribution& pi, double n) {
-    Pearson r;
-    r.minExpected = std::numeric_limits<double>::infinity();
-    int cells = 0;
-    for (int x = 0; x < kStates; ++x) {
-        if (pi[x] == 0) continue;
-        double e = n * pi[x];
-        r.statistic += (observed[x] - e) * (observed[x] - e) / e;
-        r.minExpected = std::min(r.minExpected, e);
-        ++cells;
-    }
-    r.dof = cells - 1;
-    r.pValue = test::chi2SurvivalProbability(r.statistic, r.dof);
-    return r;
-}
-
 // The chains: kChains independent chains (one Rng stream each), all started in kStartState (the
 // lowest positive f, far from where the target's mass is) and run for kChainSteps steps. Each
 // contributes its final state to `finalStates` and the splats of its last step to
@@ -263,19 +235,19 @@ TEST(Metropolis, ChainMatchesTargetChiSquare) {
     EXPECT_EQ(tally.zeroWeightSplats, 0);
     EXPECT_LE(tally.maxStepWeightError, 1e-15);
 
-    Pearson states = pearson(tally.finalStates, pi, kChains);
+    test::Pearson states = test::pearson(tally.finalStates, pi, kChains);
     ASSERT_GE(states.minExpected, 5);
     EXPECT_GE(states.pValue, level) << "final states: " << states.describe();
     // The expected-value splats are E[final state | last proposal], a Rao-Blackwellised count:
     // their covariance is at most the multinomial one, so Pearson's statistic on them is
     // stochastically below chi-square(dof) and the same level is conservative.
-    Pearson splats = pearson(tally.finalSplats, pi, kChains);
+    test::Pearson splats = test::pearson(tally.finalSplats, pi, kChains);
     EXPECT_GE(splats.pValue, level) << "final splats: " << splats.describe();
 
     // The same chains with the inverted ratio converge elsewhere, and the test sees it.
     const ChainTally wrong = runChains(Ratio::Inverted);
-    EXPECT_LT(pearson(wrong.finalStates, pi, kChains).pValue, level);
-    EXPECT_LT(pearson(wrong.finalSplats, pi, kChains).pValue, level);
+    EXPECT_LT(test::pearson(wrong.finalStates, pi, kChains).pValue, level);
+    EXPECT_LT(test::pearson(wrong.finalSplats, pi, kChains).pValue, level);
 }
 
 void expectInvalidAcceptanceIsZero() {

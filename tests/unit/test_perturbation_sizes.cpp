@@ -47,35 +47,9 @@ struct Move {
     double size = 0, azimuth = 0;
 };
 
-struct Pearson {
-    double statistic = 0, pValue = 0, minExpected = 0;
-    int dof = 0;
-    std::string describe() const {
-        std::ostringstream os;
-        os << "chi2 = " << statistic << ", dof = " << dof << ", p = " << pValue
-           << ", smallest expected count = " << minExpected;
-        return os.str();
-    }
-};
-
-/// Pearson's statistic of counts against probabilities times n (every cell expected >= 5).
-Pearson pearson(const std::vector<double>& observed, const std::vector<double>& probability,
-                double n) {
-    Pearson r;
-    r.minExpected = n;
-    for (size_t i = 0; i < observed.size(); ++i) {
-        double e = n * probability[i];
-        r.statistic += (observed[i] - e) * (observed[i] - e) / e;
-        r.minExpected = std::min(r.minExpected, e);
-    }
-    r.dof = int(observed.size()) - 1;
-    r.pValue = test::chi2SurvivalProbability(r.statistic, r.dof);
-    return r;
-}
-
 void expectFits(const std::vector<double>& observed, const std::vector<double>& probability,
                 double n, const std::string& what) {
-    Pearson r = pearson(observed, probability, n);
+    test::Pearson r = test::pearson(observed, probability, n);
     EXPECT_GE(r.minExpected, 5) << what;
     EXPECT_GE(r.pValue, test::sidakLevel(kFamilyAlpha, kChi2Tests)) << what << ": " << r.describe();
 }

@@ -6,6 +6,7 @@
 
 #include "camera.h"
 #include "mcmc/bootstrap.h"
+#include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
 #include "path/path.h"
 #include "progress_reporter.h"
@@ -68,25 +69,14 @@ ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sample
     plan.groups.push_back({"all", bootstrap.b});
     Rng rng(ctx.settings.seed, kResampleStream);
     std::vector<size_t> starts = resampleCandidates(bootstrap.candidates, size_t(chains), rng);
-    uint64_t rays = 0;
     for (size_t k = 0; k < starts.size(); ++k) {
-        // A candidate whose path carries nothing as a state (rare: f* rounds to 0 once the path
-        // is rebuilt) gives its chain to the next candidate.
-        MarkovPath path;
-        bool found = false;
-        for (size_t c = starts[k]; c < bootstrap.candidates.size() && !found; ++c) {
-            if (!sampler.regenerate(bootstrap.candidates[c], path, rays)) continue;
-            std::vector<uint8_t> bytes = serializePath(path.vertices);
-            MarkovPath rebuilt;
-            rebuilt.vertices = deserializePath(ctx.scene, ctx.camera, bytes);
-            if (!evaluatePath(ctx.scene, ctx.camera, rebuilt)) continue;
-            PlannedChain chain;
-            chain.stream = kChainStreams + k;
-            chain.mutations = chainShare(mutations, starts.size(), k);
-            chain.start = std::move(bytes);
-            plan.chains.push_back(std::move(chain));
-            found = true;
-        }
+        std::vector<uint8_t> start = chainStart(ctx, sampler, bootstrap.candidates, starts[k]);
+        if (start.empty()) continue;
+        PlannedChain chain;
+        chain.stream = kChainStreams + k;
+        chain.mutations = chainShare(mutations, starts.size(), k);
+        chain.start = std::move(start);
+        plan.chains.push_back(std::move(chain));
     }
     return plan;
 }
@@ -116,26 +106,8 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
         return makeVeachMutations(ctx.scene, ctx.camera, rs.maxDepth, settings_.mutations);
     };
     ChainRunner runner(ctx, plan, makeMutations, {}, settings_.roundMutations);
-    {
-        ProgressReporter progress(ctx.observer, "render", "mutations",
-                                  timed ? 0 : double(plan.mutations()),
-                                  timed ? std::max(0.0, rs.budget - bootstrapSeconds) : 0);
-        auto lastPreview = Clock::now();
-        bool first = true;
-        auto afterRound = [&](double elapsed) {
-            if (rs.previewIntervalSeconds <= 0) return;
-            if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
-            first = false;
-            lastPreview = Clock::now();
-            RenderStats st;
-            st.values["mutations"] = double(runner.mutationsDone());
-            st.values["seconds"] = elapsed + bootstrapSeconds;
-            ctx.observer.onPreview(runner.resolveGroup(0, &ctx.pool), st);
-        };
-        runner.run(progress, timed ? std::max(0.0, rs.budget - bootstrapSeconds) : 0, afterRound);
-        progress.flush();
-    }
-    double seconds = secondsSince(start);
+    runChainsWithPreviews(ctx, runner, plan, bootstrapSeconds,
+                          [&](ThreadPool* pool) { return runner.resolveGroup(0, pool); }, {});
 
     RenderResult result;
     result.image = runner.resolveGroup(0, nullptr);
@@ -143,22 +115,8 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     st.values["b"] = bootstrap.b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
-    st.values["chains"] = double(plan.chains.size());
-    double done = double(runner.mutationsDone());
-    st.values["mutations"] = done;
-    st.values["mpp"] = done / pixels;
-    st.values["seconds"] = seconds;
-    double renderSeconds = seconds - bootstrapSeconds;
-    st.values["render_seconds"] = renderSeconds;
-    st.values["mutations_per_second"] = renderSeconds > 0 ? done / renderSeconds : 0;
-    double rays = double(runner.rays() + bootstrap.rays);
-    st.values["rays"] = rays;
-    st.values["rays_per_second"] = seconds > 0 ? rays / seconds : 0;
     st.values["path_types"] = double(runner.film(0).typeCount());
-    for (const auto& [name, m] : runner.mutationStats()) {
-        st.values["proposed_" + name] = double(m.proposed);
-        st.values["acceptance_" + name] = m.proposed ? double(m.accepted) / double(m.proposed) : 0;
-    }
+    addChainStats(st, runner, plan, secondsSince(start), bootstrapSeconds, bootstrap.rays, pixels);
     return result;
 }
 

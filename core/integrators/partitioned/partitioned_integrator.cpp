@@ -6,6 +6,7 @@
 
 #include "camera.h"
 #include "mcmc/bootstrap.h"
+#include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
 #include "partition/partition.h"
 #include "partition/prepass.h"
@@ -59,26 +60,19 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
         std::vector<BootstrapCandidate> candidates = candidatesOf(prepass, partitions[g]);
         Rng rng(ctx.settings.seed, kResampleStream + g);
         std::vector<size_t> starts = resampleCandidates(candidates, size_t(chains), rng);
-        uint64_t rays = 0;
+        const Partition& partition = partitions[g];
         for (size_t k = 0; k < starts.size(); ++k) {
-            for (size_t c = starts[k]; c < candidates.size(); ++c) {
-                MarkovPath path;
-                if (!sampler.regenerate(candidates[c], path, rays)) continue;
-                std::vector<uint8_t> bytes = serializePath(path.vertices);
-                MarkovPath rebuilt;
-                rebuilt.vertices = deserializePath(ctx.scene, ctx.camera, bytes);
-                if (!evaluatePath(ctx.scene, ctx.camera, rebuilt) ||
-                    !partitions[g].holds(rebuilt.type))
-                    continue;
-                PlannedChain chain;
-                chain.group = uint32_t(g);
-                chain.stream = stream++;
-                chain.mutations = chainShare(mutations[g], starts.size(), k);
-                chain.burnIn = s.burnIn;
-                chain.start = std::move(bytes);
-                plan.chains.push_back(std::move(chain));
-                break;
-            }
+            std::vector<uint8_t> start =
+                chainStart(ctx, sampler, candidates, starts[k],
+                           [&](const PathType& t) { return partition.holds(t); });
+            if (start.empty()) continue;
+            PlannedChain chain;
+            chain.group = uint32_t(g);
+            chain.stream = stream++;
+            chain.mutations = chainShare(mutations[g], starts.size(), k);
+            chain.burnIn = s.burnIn;
+            chain.start = std::move(start);
+            plan.chains.push_back(std::move(chain));
         }
     }
     return plan;
@@ -154,28 +148,12 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
         return [p](const PathType& t) { return p.holds(t); };
     };
     ChainRunner runner(ctx, plan, makeMutations, restriction, settings_.roundMutations);
-    {
-        double chainSeconds = timed ? std::max(0.0, rs.budget - prepassSeconds) : 0;
-        ProgressReporter progress(ctx.observer, "render", "mutations",
-                                  timed ? 0 : double(plan.mutations()), chainSeconds);
-        auto lastPreview = Clock::now();
-        bool first = true;
-        auto afterRound = [&](double elapsed) {
-            if (rs.previewIntervalSeconds <= 0) return;
-            if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
-            first = false;
-            lastPreview = Clock::now();
-            RenderStats st;
-            st.values["mutations"] = double(runner.mutationsDone());
-            st.values["seconds"] = elapsed + prepassSeconds;
-            addPartitionStats(st, partitions, runner);
-            ctx.observer.onPreview(
-                resolvePartitions(runner, partitions, rs.width, rs.height, &ctx.pool), st);
-        };
-        runner.run(progress, chainSeconds, afterRound);
-        progress.flush();
-    }
-    double seconds = secondsSince(start);
+    runChainsWithPreviews(
+        ctx, runner, plan, prepassSeconds,
+        [&](ThreadPool* pool) {
+            return resolvePartitions(runner, partitions, rs.width, rs.height, pool);
+        },
+        [&](RenderStats& st) { addPartitionStats(st, partitions, runner); });
 
     RenderResult result;
     result.image = resolvePartitions(runner, partitions, rs.width, rs.height, nullptr);
@@ -185,22 +163,8 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;
-    st.values["chains"] = double(plan.chains.size());
     st.values["burn_in"] = double(settings_.burnIn);
-    double done = double(runner.mutationsDone());
-    st.values["mutations"] = done;
-    st.values["mpp"] = done / pixels;
-    st.values["seconds"] = seconds;
-    st.values["render_seconds"] = seconds - prepassSeconds;
-    st.values["mutations_per_second"] =
-        seconds > prepassSeconds ? done / (seconds - prepassSeconds) : 0;
-    double rays = double(runner.rays() + prepass.rays);
-    st.values["rays"] = rays;
-    st.values["rays_per_second"] = seconds > 0 ? rays / seconds : 0;
-    for (const auto& [name, m] : runner.mutationStats()) {
-        st.values["proposed_" + name] = double(m.proposed);
-        st.values["acceptance_" + name] = m.proposed ? double(m.accepted) / double(m.proposed) : 0;
-    }
+    addChainStats(st, runner, plan, secondsSince(start), prepassSeconds, prepass.rays, pixels);
     addPartitionStats(st, partitions, runner);
     return result;
 }
