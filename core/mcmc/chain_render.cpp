@@ -25,7 +25,9 @@ void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const 
                            const std::function<void(RenderStats&)>& addStats) {
     const RenderSettings& rs = ctx.settings;
     bool timed = rs.budgetKind == BudgetKind::Seconds;
-    double seconds = timed ? std::max(0.0, rs.budget - startupSeconds) : 0;
+    // A start-up that used the whole time budget still leaves one short round (an image); 0
+    // would mean "no time limit" to the runner.
+    double seconds = timed ? std::max(1e-3, rs.budget - startupSeconds) : 0;
     ProgressReporter progress(ctx.observer, "render", "mutations",
                               timed ? 0 : double(plan.mutations()), seconds);
     auto lastPreview = Clock::now();

@@ -272,3 +272,21 @@ TEST(Mlt, BootstrapSamplesAreASettingWithALimit) {
 
 }  // namespace
 }  // namespace partita
+
+namespace partita {
+namespace {
+
+TEST(Mlt, ATimeBudgetShorterThanTheBootstrapStillEnds) {
+    RenderSettings st = tinySettings(0.01, 1);
+    st.budgetKind = BudgetKind::Seconds;
+    st.bootstrapSamples = 200000;
+    auto start = std::chrono::steady_clock::now();
+    RenderResult r = test::renderWith(loadScene("cornell"), "mlt", st);
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_GT(r.stats.values["mutations"], 0.0);
+    EXPECT_LT(seconds, r.stats.values["bootstrap_seconds"] + 2.0);
+}
+
+}  // namespace
+}  // namespace partita
