@@ -39,6 +39,9 @@ struct RenderProgress {
     double etaSeconds = -1;  // < 0: unknown
     double elapsedSeconds = 0;
     std::vector<PartitionProgress> partitions;  // empty for algorithms without partitions
+    /// Named statistics of the phase so far (mlt: "acceptance_<mutation>", "mutations"); empty
+    /// when the algorithm reports none.
+    std::map<std::string, double> values;
 };
 
 /// Named scalar statistics an algorithm reports (acceptance, b_i, ...), and named strings.

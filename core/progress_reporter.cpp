@@ -38,6 +38,7 @@ RenderProgress ProgressReporter::snapshotLocked() const {
     p.done = done_;
     p.total = total_;
     p.elapsedSeconds = elapsedSeconds();
+    p.values = values_;
     p.ratePerSecond = p.elapsedSeconds > 0 ? done_ / p.elapsedSeconds : 0;
     if (total_ > 0 && p.ratePerSecond > 0)
         p.etaSeconds = std::max(0.0, (total_ - done_) / p.ratePerSecond);
@@ -53,6 +54,11 @@ void ProgressReporter::advance(double units) {
     if (std::chrono::duration<double>(now - lastReport_).count() < minInterval_) return;
     lastReport_ = now;
     observer_.onProgress(snapshotLocked());
+}
+
+void ProgressReporter::setValues(std::map<std::string, double> values) {
+    std::lock_guard lock(mutex_);
+    values_ = std::move(values);
 }
 
 void ProgressReporter::flush() {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <map>
 #include <mutex>
 #include <string>
 
@@ -21,6 +22,9 @@ class ProgressReporter {
     void advance(double units);
     /// Always reports the current state (phase ends, pass ends).
     void flush();
+    /// Thread-safe. Replaces the named statistics of the phase (RenderProgress::values); they go
+    /// out with the next report.
+    void setValues(std::map<std::string, double> values);
     double elapsedSeconds() const;
     double done() const;
 
@@ -32,6 +36,7 @@ class ProgressReporter {
     std::chrono::steady_clock::time_point start_, lastReport_;
     mutable std::mutex mutex_;
     double done_ = 0;
+    std::map<std::string, double> values_;
 };
 
 }  // namespace partita

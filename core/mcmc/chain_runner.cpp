@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <stdexcept>
 
 #include "camera.h"
@@ -69,6 +70,7 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
         addSplats();
         auto now = Clock::now();
         double elapsed = std::chrono::duration<double>(now - start).count();
+        publishProgressValues(progress);
         if (afterRound) afterRound(elapsed);
         if (seconds > 0 && elapsed >= seconds) break;
         if (seconds > 0) {
@@ -108,6 +110,14 @@ void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {
         c.done += steps;
         progress.advance(double(steps));
     });
+}
+
+void ChainRunner::publishProgressValues(ProgressReporter& progress) const {
+    std::map<std::string, double> values;
+    values["mutations"] = double(mutationsDone());
+    for (const auto& [name, m] : mutationStats())
+        if (m.proposed > 0) values["acceptance_" + name] = double(m.accepted) / double(m.proposed);
+    progress.setValues(std::move(values));
 }
 
 void ChainRunner::addSplats() {

@@ -36,7 +36,9 @@ class ChainRunner {
     ~ChainRunner();
 
     /// Runs the plan's mutations, or rounds until `seconds` have passed when seconds > 0 (then
-    /// the plan's counts are upper bounds). After each round, afterRound(elapsed seconds).
+    /// the plan's counts are upper bounds). After each round, the running acceptance of each
+    /// mutation proposed so far ("acceptance_<name>", accepted / proposed) and "mutations" go
+    /// into `progress` (its next report), then afterRound(elapsed seconds).
     void run(ProgressReporter& progress, double seconds,
              const std::function<void(double)>& afterRound = {});
 
@@ -53,6 +55,7 @@ class ChainRunner {
     void burnIn();  // every chain's burn-in steps, unsplatted
     void runRound(uint64_t roundLength, ProgressReporter& progress);
     void addSplats();
+    void publishProgressValues(ProgressReporter& progress) const;
 
     const RenderContext& ctx_;
     const ChainPlan& plan_;

@@ -1,0 +1,116 @@
+// ProgressReporter: phase start, rate and ETA, named values (setValues) in the next report; and
+// mlt's reports: the phases "bootstrap" (samples) and "render" (mutations), the latter with the
+// running acceptance per mutation type, ending with the final statistics' acceptance.
+#include <gtest/gtest.h>
+
+#include <mutex>
+#include <thread>
+
+#include "gltf/gltf_loader.h"
+#include "progress_reporter.h"
+#include "render_helpers.h"
+
+namespace partita {
+namespace {
+
+struct Recorder : RenderObserver {
+    std::mutex mutex;
+    std::vector<RenderProgress> reports;
+    void onProgress(const RenderProgress& p) override {
+        std::lock_guard lock(mutex);
+        reports.push_back(p);
+    }
+};
+
+TEST(ProgressReporter, ValuesGoOutWithTheNextReportAndStay) {
+    Recorder r;
+    ProgressReporter progress(r, "render", "mutations", 100, 0, /*minInterval=*/3600);
+    ASSERT_EQ(r.reports.size(), 1u) << "the phase's start";
+    EXPECT_TRUE(r.reports[0].values.empty());
+    EXPECT_EQ(r.reports[0].done, 0);
+
+    progress.setValues({{"acceptance_lens", 0.5}, {"mutations", 40}});
+    EXPECT_EQ(r.reports.size(), 1u) << "setValues reports nothing by itself";
+    progress.advance(40);
+    EXPECT_EQ(r.reports.size(), 1u) << "within the interval";
+    progress.flush();
+    ASSERT_EQ(r.reports.size(), 2u);
+    EXPECT_EQ(r.reports[1].done, 40);
+    EXPECT_EQ(r.reports[1].values,
+              (std::map<std::string, double>{{"acceptance_lens", 0.5}, {"mutations", 40}}));
+    progress.advance(60);
+    progress.flush();
+    EXPECT_EQ(r.reports.back().values.at("acceptance_lens"), 0.5) << "kept until replaced";
+    progress.setValues({{"mutations", 100}});
+    progress.flush();
+    EXPECT_EQ(r.reports.back().values, (std::map<std::string, double>{{"mutations", 100}}));
+    EXPECT_EQ(r.reports.back().total, 100);
+    EXPECT_EQ(r.reports.back().etaSeconds, 0);
+}
+
+TEST(ProgressReporter, SetValuesAndAdvanceFromManyThreads) {
+    Recorder r;
+    ProgressReporter progress(r, "render", "mutations", 4000, 0, 0);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            for (int i = 0; i < 1000; ++i) {
+                progress.setValues({{"thread", double(t)}, {"i", double(i)}});
+                progress.advance(1);
+            }
+        });
+    for (auto& t : threads) t.join();
+    progress.flush();
+    EXPECT_EQ(r.reports.back().done, 4000);
+    EXPECT_EQ(r.reports.back().values.size(), 2u);
+    EXPECT_EQ(r.reports.back().values.at("i"), 999);
+}
+
+TEST(ProgressReporter, MltReportsBootstrapThenMutationsWithAcceptance) {
+    RenderScene scene(loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell/cornell.gltf"));
+    RenderSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.budgetKind = BudgetKind::MutationsPerPixel;
+    s.budget = 4;
+    s.previewIntervalSeconds = 0;
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    Recorder r;
+    RenderResult result = runRender(scene, "mlt", s, pool, cancel, r);
+
+    ASSERT_GE(r.reports.size(), 3u);
+    EXPECT_EQ(r.reports.front().phase, "bootstrap");
+    EXPECT_EQ(r.reports.front().unit, "samples");
+    const RenderProgress& last = r.reports.back();
+    EXPECT_EQ(last.phase, "render");
+    EXPECT_EQ(last.unit, "mutations");
+    EXPECT_EQ(last.done, 16 * 12 * 4);
+    EXPECT_EQ(last.total, 16 * 12 * 4);
+    EXPECT_GT(last.ratePerSecond, 0);
+    EXPECT_EQ(last.etaSeconds, 0);
+    bool renderStarted = false;
+    for (const RenderProgress& p : r.reports) {
+        if (p.phase == "render") renderStarted = true;
+        EXPECT_EQ(p.phase, renderStarted ? "render" : "bootstrap");
+        if (p.phase == "bootstrap") {
+            EXPECT_TRUE(p.values.empty());
+        }
+    }
+    EXPECT_EQ(last.values.at("mutations"), 16 * 12 * 4);
+    // Every mutation proposed has its running acceptance, the final statistics' value.
+    size_t acceptances = 0;
+    for (const char* name : {"bidirectional", "lens", "caustic", "multi_chain"}) {
+        double proposed = result.stats.values.at(std::string("proposed_") + name);
+        auto it = last.values.find(std::string("acceptance_") + name);
+        ASSERT_EQ(it != last.values.end(), proposed > 0) << name;
+        if (it == last.values.end()) continue;
+        ++acceptances;
+        EXPECT_EQ(it->second, result.stats.values.at(std::string("acceptance_") + name)) << name;
+    }
+    EXPECT_GE(acceptances, 2u) << "cornell: at least the bidirectional and lens mutations";
+    EXPECT_EQ(last.values.size(), acceptances + 1);
+}
+
+}  // namespace
+}  // namespace partita
