@@ -68,6 +68,7 @@ pb::Progress toProto(const RenderProgress& p) {
     out.set_rate_per_second(p.ratePerSecond);
     out.set_eta_seconds(p.etaSeconds);
     out.set_elapsed_seconds(p.elapsedSeconds);
+    for (const auto& [name, value] : p.values) (*out.mutable_values())[name] = value;
     for (const auto& part : p.partitions) {
         pb::PartitionStats* s = out.add_partitions();
         s->set_type(part.type);
@@ -120,6 +121,11 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
         for (const auto& [k, v] : *stats) (*updated.mutable_stats())[k] = v;
     }
     if (persist) persist(*this, updated, note);
+    // The latest progress of the phase that ends (a phase's last report, say 100%, often comes
+    // within the throttle interval of the one before) reaches watchers before the next state.
+    if (progressPending_ && record_.has_progress() && next != pb::JOB_STATE_LOADING)
+        for (const auto& w : watchers_) w.watcher->onProgress(record_.progress());
+    progressPending_ = false;
     record_ = std::move(updated);
     for (const auto& w : watchers_) w.watcher->onState(record_);
     if (isTerminal(next)) watchers_.clear();  // each watcher ends after the terminal state
@@ -132,8 +138,11 @@ void Job::publishProgress(const RenderProgress& progress) {
     auto now = std::chrono::steady_clock::now();
     bool phaseChanged = progress.phase != lastPhase_;
     if (!phaseChanged &&
-        std::chrono::duration<double>(now - lastProgressSent_).count() < kProgressIntervalSeconds)
+        std::chrono::duration<double>(now - lastProgressSent_).count() < kProgressIntervalSeconds) {
+        progressPending_ = true;
         return;
+    }
+    progressPending_ = false;
     lastPhase_ = progress.phase;
     lastProgressSent_ = now;
     for (const auto& w : watchers_) w.watcher->onProgress(record_.progress());

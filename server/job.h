@@ -77,6 +77,8 @@ class Job {
                     const std::map<std::string, double>* stats = nullptr);
 
     /// Records the progress; passes it to watchers at most every 0.25 s (and on a phase change).
+    /// A report held back by that interval goes out before the next state change, so watchers
+    /// always see the last progress of a phase.
     void publishProgress(const RenderProgress& progress);
     /// A new preview (or, with final, the result image).
     void publishFrame(LayeredImage image, bool final);
@@ -122,6 +124,7 @@ class Job {
     uint64_t frameCount_ = 0;
     std::chrono::steady_clock::time_point lastProgressSent_{};
     std::string lastPhase_;
+    bool progressPending_ = false;  // the record's progress is newer than the watchers' last
     std::atomic<bool> cancel_{false};
     std::atomic<CancelReason> cancelReason_{CancelReason::None};
 };

@@ -24,15 +24,22 @@ namespace {
 /// Thrown between the loading steps when the job was cancelled.
 struct CancelledWhileLoading {};
 
+/// The job state of an algorithm's progress phase: "prepass" and mlt's "bootstrap" (the BDPT
+/// samples that give b and the chains' starts) are pre-passes, "render" is rendering; other
+/// phases leave the state as it is.
+pb::JobState stateOfPhase(const std::string& phase) {
+    if (phase == "prepass" || phase == "bootstrap") return pb::JOB_STATE_PREPASS;
+    if (phase == "render") return pb::JOB_STATE_RENDERING;
+    return pb::JOB_STATE_UNSPECIFIED;
+}
+
 /// Maps the algorithm's progress phases to job states and forwards progress and previews.
 class JobObserver : public RenderObserver {
   public:
     JobObserver(Job& job, const Job::Persist& persist) : job_(job), persist_(persist) {}
 
     void onProgress(const RenderProgress& p) override {
-        pb::JobState target = p.phase == "prepass"  ? pb::JOB_STATE_PREPASS
-                              : p.phase == "render" ? pb::JOB_STATE_RENDERING
-                                                    : pb::JOB_STATE_UNSPECIFIED;
+        pb::JobState target = stateOfPhase(p.phase);
         if (target != pb::JOB_STATE_UNSPECIFIED) advance(target);
         job_.publishProgress(p);
     }

@@ -1,5 +1,7 @@
 #include "watch_session.h"
 
+#include <algorithm>
+
 #include <spdlog/spdlog.h>
 
 #include "wire.h"
@@ -61,9 +63,15 @@ void WatchSession::onClose(const grpc::Status& status) {
 void WatchSession::enqueue(Pending item) {
     std::lock_guard lock(mutex_);
     if (finished_ || cancelled_ || closeStatus_) return;
-    // Keep at most one pending progress report and one pending intermediate frame: the newest.
+    // Keep at most one pending progress report after the last pending state and one pending
+    // intermediate frame: the newest. A progress report before a state stays: it is the last of
+    // its phase.
     if (item.kind == Pending::Progress) {
-        std::erase_if(queue_, [](const Pending& p) { return p.kind == Pending::Progress; });
+        auto lastState = std::find_if(queue_.rbegin(), queue_.rend(),
+                                      [](const Pending& p) { return p.kind == Pending::State; });
+        queue_.erase(std::remove_if(lastState.base(), queue_.end(),
+                                    [](const Pending& p) { return p.kind == Pending::Progress; }),
+                     queue_.end());
     } else if (item.kind == Pending::Frame) {
         std::erase_if(queue_, [](const Pending& p) {
             return p.kind == Pending::Frame && !p.frame->isFinal();
