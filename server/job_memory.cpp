@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include "integrators/mlt/mlt_settings.h"
+
 namespace partita::server {
 
 namespace {
@@ -18,11 +20,12 @@ constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
 bool splatsAnywhere(const std::string& algorithm) {
-    return algorithm == "mlt" || algorithm == "partitioned" || algorithm == "guided";
+    return algorithm == "partitioned" || algorithm == "guided";
 }
 
-/// Films an algorithm holds at once: one per render thread for the MCMC family; bdpt keeps a
-/// camera film and a light-tracing film and sums them into a third to resolve.
+/// Films an algorithm holds at once: one per render thread for the partitioned MCMC methods;
+/// bdpt keeps a camera film and a light-tracing film and sums them into a third to resolve; mlt
+/// splats every chain into one film, round by round, in chain order.
 int filmCount(const std::string& algorithm, int renderThreads) {
     if (splatsAnywhere(algorithm)) return std::max(1, renderThreads);
     return algorithm == "bdpt" ? 3 : 1;
@@ -42,6 +45,36 @@ double bdptExtraBytes(const RenderSettings& s, double pixels) {
     double films = pixels * std::min(1600 * std::sqrt(std::max(1.0, spp)), perPixelCap);
     double splats = std::min(pixels, double(1 << 18)) * 4 * (40 + 4 * 32) + pixels * 4;
     return films + splats;
+}
+
+/// mlt's own extra memory, with the defaults of MltSettings (integrators/mlt/mlt_settings.h):
+/// - the bootstrap's candidates, 16 B each (mcmc/bootstrap.h), measured 12-14 a sample on the
+///   shipped scenes (0.7 on door-ajar): the blocks' lists and the merged list are alive together
+///   at the end of the bootstrap, and the merged list lives on through the render;
+/// - each chain's splats of one round (2 per mutation, 40 B: raster, type, value), and its
+///   state: two paths of up to max depth + 2 vertices and the mutations' scratch, ~16 KiB;
+/// - the film's type blocks: chains splat every type anywhere, so tiles gather types as the
+///   mutations accumulate: measured on cornell-glass (peak RSS over mpp 1), 140 B a pixel at 4
+///   mpp and 225 at 16 (512x384), 190 at 64 and 770 at 256 (128x96): counted as 150 B
+///   sqrt(mpp), bounded by what ~1000 types of 12 B a pixel can take (time budgets at that
+///   bound).
+struct MltExtra {
+    double bootstrap, chains, types;
+};
+MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
+    const MltSettings defaults;
+    constexpr double kCandidatesPerSample = 14, kCandidateBytes = 16, kSplatBytes = 40;
+    constexpr double kChainStateBytes = 16 << 10;
+    MltExtra e;
+    e.bootstrap = 2 * double(defaults.bootstrapSamples) * kCandidatesPerSample * kCandidateBytes;
+    double splats = 2 * double(defaults.roundMutations) * kSplatBytes;
+    // The shared SplatBuffer sums one chain's splats at a time: 4 tent copies of 32 B, twice
+    // (buffered and sorted), and a start index per pixel.
+    double buffer = 2 * double(defaults.roundMutations) * 4 * 32 * 2 + 4 * pixels;
+    e.chains = double(defaults.chains) * (splats + kChainStateBytes) + buffer;
+    double mpp = s.budgetKind == BudgetKind::Seconds ? 1e12 : s.budget;
+    e.types = pixels * std::min(150 * std::sqrt(std::max(1.0, mpp)), 12000.0);
+    return e;
 }
 
 bool hasPartitions(const std::string& algorithm) {
@@ -77,8 +110,11 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double parts = partitions * pixels * kPartition;
     double scene = kSceneFactor * double(sceneBytes);
     double splats = algorithm == "bdpt" ? bdptExtraBytes(s, pixels) : 0;
+    MltExtra mlt{0, 0, 0};
+    if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
+    double mltBytes = mlt.bootstrap + mlt.chains + mlt.types;
     MemoryEstimate e;
-    e.bytes = uint64_t(film + images + parts + splats + scene + kBaseline);
+    e.bytes = uint64_t(film + images + parts + splats + mltBytes + scene + kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s, %d layers %s", s.width, s.height, films,
                   films == 1 ? "" : "s", humanBytes(film).c_str(), layers,
@@ -87,6 +123,9 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (partitions > 0)
         e.breakdown += ", " + std::to_string(partitions) + " partitions " + humanBytes(parts);
     if (splats > 0) e.breakdown += ", bdpt types and splats " + humanBytes(splats);
+    if (mltBytes > 0)
+        e.breakdown += ", mlt bootstrap " + humanBytes(mlt.bootstrap) + ", chains and splats " +
+                       humanBytes(mlt.chains) + ", types " + humanBytes(mlt.types);
     e.breakdown += ", scene " + humanBytes(scene);
     return e;
 }

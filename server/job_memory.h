@@ -4,8 +4,9 @@
 // measured peaks (server/README.md "Memory"):
 //
 // - the accumulation film: combined sums (12 B/pixel, tiles padded to 16x16) plus the sparse
-//   per-type blocks (an allowance of 24 B/pixel); algorithms that splat anywhere (MLT and the
-//   methods built on it) keep one film per render thread;
+//   per-type blocks (an allowance of 24 B/pixel); the partitioned methods keep one film per
+//   render thread, bdpt three; bdpt's and mlt's type blocks grow with the budget (counted
+//   apart), and mlt adds its bootstrap's candidates and its chains' splats and states;
 // - every resolved layer (combined, up to max_type_layers types, "other") is a dense float RGB
 //   image, 12 B/pixel, alive in up to three copies at the peak: the latest preview frame the job
 //   holds for watchers, the final image, and the EXR writer's interleaved buffer; plus one

@@ -43,6 +43,44 @@ TEST(ServiceResources, JobOverTheMemoryLimitIsRefusedWithItsEstimateOneUnderRuns
     EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
 }
 
+TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-job-memory", "64"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    // 16x12: pt is estimated at ~8 MiB, mlt at ~76 MiB, for whatever size: its bootstrap's
+    // candidates (100000 samples of ~14 candidates of 16 B, twice: ~43 MiB) and its 256 chains'
+    // splats of a round (2 x 1024 x 40 B each: 20 MiB) and states (4 MiB).
+    Submitted pt = submit(*stub, sceneSpec("cornell", 16, 12, 1));
+    ASSERT_TRUE(pt.status.ok()) << pt.status.error_message();
+    pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
+    mlt.set_algorithm("mlt");
+    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    Submitted refused = submit(*stub, mlt);
+    EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    const std::string& why = refused.status.error_message();
+    EXPECT_NE(why.find("1 film"), std::string::npos) << "mlt splats into one film\n" << why;
+    EXPECT_NE(why.find("mlt bootstrap 42.7 MiB"), std::string::npos) << why;
+    EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
+    EXPECT_EQ(waitForEnd(*stub, pt.id, 60s).state(), pb::JOB_STATE_DONE);
+
+    // Its film's type blocks grow with the budget: 150 B sqrt(mpp) a pixel, at most 12 kB.
+    TempDir store2;
+    Daemon roomy(store2.path(), {"--max-job-memory", "160"});
+    ASSERT_TRUE(roomy.running());
+    auto stub2 = roomy.stub();
+    Submitted small = submit(*stub2, mlt);
+    ASSERT_TRUE(small.status.ok()) << small.status.error_message();
+    pb::JobSpec more = sceneSpec("cornell", 128, 96, 4096);
+    more.set_algorithm("mlt");
+    more.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    Submitted big = submit(*stub2, more);  // 128x96 x 9600 B: 112.5 MiB of type blocks
+    EXPECT_EQ(big.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(big.status.error_message().find("types 112.5 MiB"), std::string::npos)
+        << big.status.error_message();
+    EXPECT_EQ(waitForEnd(*stub2, small.id, 60s).state(), pb::JOB_STATE_DONE);
+}
+
 TEST(ServiceResources, RunningJobsCountAgainstTheTotal) {
     TempDir store;
     // Each job below is estimated at ~90 MiB (1000 type layers on 48x36 pixels): one fits in
