@@ -17,7 +17,8 @@ LayeredImage renderInProcess(const fs::path& sceneFile, int width, int height, d
     RenderSettings s;
     s.width = width;
     s.height = height;
-    s.budgetKind = BudgetKind::SamplesPerPixel;
+    registerBuiltinAlgorithms();
+    s.budgetKind = AlgorithmRegistry::instance().find(algorithm)->nativeBudget;
     s.budget = spp;
     s.seed = seed;
     ThreadPool pool(2);

@@ -11,7 +11,8 @@
 namespace partita::test {
 
 /// runRender of `algorithm` on a scene file with the settings the daemon derives from
-/// sceneSpec().
+/// sceneSpec(), the budget `spp` in the algorithm's native unit (samples or mutations per
+/// pixel).
 LayeredImage renderInProcess(const fs::path& sceneFile, int width, int height, double spp,
                              uint64_t seed, const std::string& algorithm = "pt");
 
