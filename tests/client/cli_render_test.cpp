@@ -146,6 +146,54 @@ TEST(CliRender, DetachThenWatchThenGet) {
     EXPECT_TRUE(found) << jobs.describe();
 }
 
+/// The plain progress line (no terminal) of `phase` that says 100%, or "".
+std::string finalProgressLine(const RunResult& r, const std::string& phase) {
+    for (const auto& line : r.errLines())
+        if (line.rfind(phase + ": 100.0%", 0) == 0) return line;
+    return "";
+}
+
+TEST(CliRender, MltRendersEndToEndAndPrintsItsAcceptance) {
+    TempDir dir;
+    const std::vector<std::string> mlt = {"--algorithm", "mlt", "--mpp",    "4",
+                                          "--width",     "16",  "--height", "12"};
+    // Through a private daemon, without a terminal: plain progress lines, the last one of the
+    // chains with the rate, the ETA and the acceptance per mutation type.
+    RunResult r = partita(concat({"render", "cornell", "--out", (dir / "m.exr").string()}, mlt));
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    std::string render = finalProgressLine(r, "render");
+    ASSERT_FALSE(render.empty()) << r.describe();
+    EXPECT_NE(render.find("mutations/s  ETA "), std::string::npos) << render;
+    EXPECT_NE(render.find("  acc bidir 0."), std::string::npos) << render;
+    EXPECT_NE(render.find(" lens 0."), std::string::npos) << render;
+    EXPECT_NE(r.err.find("bootstrap: "), std::string::npos) << "the bootstrap's progress\n"
+                                                            << r.describe();
+    expectResults(dir / "m.exr", 16, 12);
+    EXPECT_GT(readExr(dir / "m.exr").layers.size(), 1u) << "per-type layers";
+    auto meta = nlohmann::json::parse(readText(dir / "m.json"));
+    EXPECT_EQ(meta["algorithm"], "mlt");
+    EXPECT_TRUE(meta["stats"].contains("acceptance_bidirectional")) << meta["stats"].dump();
+    EXPECT_GT(meta["stats"]["b"].get<double>(), 0);
+
+    // watch shows the same of a detached job (of 2 s, so that the watch joins while it runs).
+    Daemon daemon;
+    RunResult submit =
+        partita({"--server", daemon.address(), "render", "cornell", "--detach", "--algorithm",
+                 "mlt", "--seconds", "2", "--width", "16", "--height", "12"});
+    ASSERT_EQ(submit.exitCode, 0) << submit.describe();
+    RunResult watch = partita({"--server", daemon.address(), "watch", lines(submit.out).at(0)});
+    ASSERT_EQ(watch.exitCode, 0) << watch.describe();
+    EXPECT_NE(finalProgressLine(watch, "render").find("  acc bidir 0."), std::string::npos)
+        << watch.describe();
+
+    // --spp is not mlt's budget: the server's one-line refusal, before anything renders.
+    expectOneLineError(
+        partita({"--server", daemon.address(), "render", "cornell", "--algorithm", "mlt", "--spp",
+                 "4", "--width", "16", "--height", "12"}),
+        "algorithm 'mlt' takes its budget in mutations per pixel or seconds, not samples per "
+        "pixel (INVALID_ARGUMENT)");
+}
+
 TEST(CliRender, CancelARunningJob) {
     Daemon daemon;
     RunResult submit = partita({"--server", daemon.address(), "render", "cornell", "--detach",

@@ -1,5 +1,6 @@
 #include "frontend/progress_bar.h"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,6 +13,17 @@ namespace partita {
 ProgressBar::ProgressBar(bool interactive) : interactive_(interactive) {}
 
 bool ProgressBar::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
+
+namespace {
+
+/// The width of the terminal on stderr; 80 when it cannot be told.
+size_t terminalColumns() {
+    winsize w{};
+    if (ioctl(STDERR_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 20) return w.ws_col;
+    return 80;
+}
+
+}  // namespace
 
 std::string humanCount(double v) {
     char buf[32];
@@ -38,6 +50,21 @@ std::string humanDuration(double s) {
     return buf;
 }
 
+std::string acceptanceText(const RenderProgress& p) {
+    static const std::string prefix = "acceptance_";
+    std::string out;
+    for (const auto& [key, value] : p.values) {
+        if (key.rfind(prefix, 0) != 0) continue;
+        std::string name = key.substr(prefix.size());
+        if (name == "bidirectional") name = "bidir";
+        if (name == "multi_chain") name = "multi";
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " %s %.2f", name.c_str(), value);
+        out += buf;
+    }
+    return out.empty() ? out : "acc" + out;
+}
+
 void ProgressBar::update(const RenderProgress& p) {
     std::lock_guard lock(mutex_);
     double fraction = p.total > 0 ? std::clamp(p.done / p.total, 0.0, 1.0) : -1;
@@ -45,19 +72,28 @@ void ProgressBar::update(const RenderProgress& p) {
         fraction = p.elapsedSeconds / (p.elapsedSeconds + p.etaSeconds);
     std::string rate = humanCount(p.ratePerSecond) + p.unit + "/s";
     std::string eta = p.etaSeconds >= 0 ? humanDuration(p.etaSeconds) : "?";
+    std::string acceptance = acceptanceText(p);
+    if (!acceptance.empty()) eta += "  " + acceptance;
     if (interactive_) {
-        constexpr int kWidth = 30;
-        int filled = fraction >= 0 ? int(fraction * kWidth + 0.5) : 0;
+        // Room for the acceptance in the phase that reports it (mutations).
+        const int width = acceptance.empty() && p.unit != "mutations" ? 30 : 16;
+        int filled = fraction >= 0 ? int(fraction * width + 0.5) : 0;
         std::string bar(size_t(filled), '#');
-        bar.resize(kWidth, '.');
-        std::fprintf(stderr, "\r%-8s [%s] %5.1f%%  %s  ETA %s   ", p.phase.c_str(), bar.c_str(),
-                     fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+        bar.resize(size_t(width), '.');
+        char line[512];
+        std::snprintf(line, sizeof line, "%-8s [%s] %5.1f%%  %s  ETA %s", p.phase.c_str(),
+                      bar.c_str(), fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+        // One terminal line, never wrapped (a wrapped line cannot be redrawn in place), padded
+        // to the width so that nothing of a longer line before it remains.
+        std::string text = line;
+        text.resize(terminalColumns() - 1, ' ');
+        std::fprintf(stderr, "\r%s", text.c_str());
         std::fflush(stderr);
         drawn_ = true;
         return;
     }
     if (p.done <= 0 && p.ratePerSecond <= 0) return;  // nothing to tell yet
-    char line[256];
+    char line[512];
     std::snprintf(line, sizeof line, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
                   fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
     pendingPlain_ = line;

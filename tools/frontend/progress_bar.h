@@ -1,7 +1,8 @@
 // A terminal progress bar with rate and ETA for the command-line front ends. On a terminal it
 // redraws one line on stderr; otherwise it prints a plain line when work is first reported
 // done, then at most every 5 s, and the latest one when the work is over (finish), so that a log
-// shows how far it got and never only "0.0% ... ETA ?".
+// shows how far it got and never only "0.0% ... ETA ?". An MCMC method's running acceptance
+// per mutation type follows the ETA.
 #pragma once
 
 #include <chrono>
@@ -28,6 +29,10 @@ class ProgressBar {
     std::chrono::steady_clock::time_point lastPlain_{};
     std::string pendingPlain_;  // the latest plain line not printed yet
 };
+
+/// The running acceptance per mutation type of a progress report's values ("acceptance_<name>"),
+/// compact: "acc bidir 0.46 caustic 0.12 lens 0.64 multi 0.55"; "" when there is none.
+std::string acceptanceText(const RenderProgress& p);
 
 /// "1.23 M", "456 k" ... for rates and counts.
 std::string humanCount(double value);

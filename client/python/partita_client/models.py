@@ -44,17 +44,28 @@ class Progress:
     eta_seconds: float      # < 0 when unknown
     elapsed_seconds: float
     partitions: List[PartitionStats] = field(default_factory=list)
+    # Named statistics of the phase so far: mlt's "acceptance_<mutation>" and "mutations".
+    values: Dict[str, float] = field(default_factory=dict)
     proto: object = field(default=None, repr=False)
 
     @property
     def fraction(self) -> Optional[float]:
         return min(1.0, self.done / self.total) if self.total > 0 else None
 
+    @property
+    def acceptance(self) -> Dict[str, float]:
+        """The running acceptance per mutation type, {"bidirectional": 0.46, "lens": ...}
+        (mlt's render phase; empty otherwise)."""
+        prefix = "acceptance_"
+        return {k[len(prefix):]: v for k, v in sorted(self.values.items())
+                if k.startswith(prefix)}
+
     @classmethod
     def from_proto(cls, p) -> "Progress":
         return cls(p.phase, p.done, p.total, p.unit, p.rate_per_second, p.eta_seconds,
                    p.elapsed_seconds,
-                   [PartitionStats(q.type, q.acceptance, q.b, q.p) for q in p.partitions], p)
+                   [PartitionStats(q.type, q.acceptance, q.b, q.p) for q in p.partitions],
+                   dict(p.values), p)
 
 
 @dataclass

@@ -98,6 +98,42 @@ class ClientTest(unittest.TestCase):
         self.assertIn("LSSDE", layers)  # light tracing reaches what pt cannot
         self.assertGreater(float(layers["LSSDE"].sum()), 0.0)
 
+    def test_mlt_progress_carries_its_phases_and_acceptance(self):
+        job = self.client.submit("cornell", algorithm="mlt", mpp=4, width=16, height=12, seed=2)
+        events = list(self.client.watch(job))
+        states = [e.job.state for e in events if isinstance(e, StateEvent)]
+        self.assertEqual(states[-1], "done", states)
+        self.assertIn("prepass", states)  # the bootstrap
+        progress = [e.progress for e in events if isinstance(e, ProgressEvent)]
+        phases = [p.phase for p in progress]
+        self.assertIn("bootstrap", phases)
+        self.assertEqual(phases[-1], "render", phases)
+        self.assertEqual(phases, sorted(phases), "the bootstrap comes first")
+        last = progress[-1]
+        self.assertEqual(last.unit, "mutations")
+        self.assertEqual(last.done, 16 * 12 * 4)
+        self.assertEqual(last.fraction, 1.0)
+        self.assertGreater(last.rate_per_second, 0.0)
+        self.assertGreaterEqual(last.eta_seconds, 0.0)
+        self.assertEqual(last.values["mutations"], 16 * 12 * 4)
+        self.assertIn("bidirectional", last.acceptance)
+        self.assertIn("lens", last.acceptance)
+        for name, rate in last.acceptance.items():
+            self.assertTrue(0.0 <= rate <= 1.0, (name, rate))
+            self.assertEqual(last.values["acceptance_" + name], rate)
+        self.assertEqual(next(p for p in progress if p.phase == "bootstrap").acceptance, {})
+
+        stats = self.client.metadata(job)["stats"]
+        self.assertEqual(stats["acceptance_lens"], last.acceptance["lens"])
+        self.assertGreater(stats["b"], 0.0)
+        layers = self.client.result(job)
+        self.assertEqual(layers["combined"].shape, (12, 16, 3))
+        self.assertGreater(len(layers), 1)  # per-type layers
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.submit("cornell", algorithm="mlt", spp=4, width=16, height=12)
+        self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
+        self.assertIn("mutations per pixel or seconds", str(ctx.exception))
+
     def test_environment_color_goes_into_the_spec(self):
         from partita_client.client import job_spec
         spec = job_spec("cornell", environment_color=(0.5, 1, 2), environment_rotation=30)
