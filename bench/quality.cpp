@@ -110,7 +110,8 @@ SeedRun measure(const TimedRender& r, const Reference& ref, const RenderSettings
         run.unitsPerPixel = s.budget;
         run.unit = s.budgetKind == BudgetKind::SamplesPerPixel ? "samples" : "mutations";
     }
-    if (auto it = v.find("acceptance"); it != v.end()) run.acceptance = it->second;
+    run.stats = v;
+    run.acceptance = overallAcceptance(run.stats);
     return run;
 }
 
@@ -169,7 +170,8 @@ nlohmann::json report(const QualityOptions& o, const Reference& ref,
         "and reference are resident throughout";
     j["relmse_definition"] = "mean over pixels and RGB channels of (x - r)^2 / (r^2 + 1e-2)";
     nlohmann::json results = nlohmann::json::array();
-    for (const auto& r : runs) results.push_back(resultJson(r, ref.layerOrder, ref.errors));
+    for (const auto& r : runs)
+        results.push_back(resultJson(r, runs.front(), ref.layerOrder, ref.errors));
     j["results"] = results;
     return j;
 }

@@ -44,6 +44,43 @@ double rate(const AlgorithmRun& run) {
         .mean;
 }
 
+std::vector<Statistics> statistics(const AlgorithmRun& run) {
+    std::vector<Statistics> v;
+    for (const auto& r : run.runs) v.push_back(r.stats);
+    return v;
+}
+
+/// Seconds of sampling per sample or mutation, mean over the seeds that report it.
+std::optional<double> meanSecondsPerUnit(const AlgorithmRun& run) {
+    double pixels = double(run.settings.width) * run.settings.height;
+    std::vector<double> v;
+    for (const auto& r : run.runs)
+        if (auto s = secondsPerUnit(r.stats, r.unitsPerPixel, pixels)) v.push_back(*s);
+    if (v.empty()) return std::nullopt;
+    return spreadOf(v).mean;
+}
+
+std::optional<double> raysPerSecond(const AlgorithmRun& run) {
+    Statistics mean = meanStatistics(statistics(run));
+    auto it = mean.find("rays_per_second");
+    if (it == mean.end()) return std::nullopt;
+    return it->second;
+}
+
+std::optional<double> ratio(std::optional<double> a, std::optional<double> b) {
+    if (!a || !b || !(*b > 0)) return std::nullopt;
+    return *a / *b;
+}
+
+nlohmann::json orNull(std::optional<double> v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
+
+std::string formatted(const char* format, std::optional<double> v) {
+    if (!v) return "-";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, format, *v);
+    return buf;
+}
+
 std::optional<double> acceptance(const AlgorithmRun& run) {
     std::vector<double> v;
     for (const auto& r : run.runs)
@@ -86,9 +123,7 @@ std::string meanStd(const Spread& s) {
 
 void printAlgorithmRow(const AlgorithmRun& run) {
     LayerSpread combined = layerSpread(run, kCombinedLayerName);
-    auto acc = acceptance(run);
-    char accText[16] = "-";
-    if (acc) std::snprintf(accText, sizeof accText, "%.3f", *acc);
+    std::string accText = formatted("%.3f", acceptance(run));
     std::string unit = run.runs.empty() ? "" : run.runs.front().unit;
     std::string budget = budgetText(run.settings);
     if (run.settings.budgetKind == BudgetKind::Seconds && !run.runs.empty())
@@ -97,8 +132,59 @@ void printAlgorithmRow(const AlgorithmRun& run) {
     std::printf("%-12s %-16s %5zu  %-20s %-20s %8.2f  %9s %-11s %6s  %7.1f (+%.1f)%s\n",
                 run.algorithm.c_str(), budget.c_str(), run.runs.size(),
                 meanStd(combined.rmse).c_str(), meanStd(combined.relMse).c_str(),
-                meanWallSeconds(run), humanCount(rate(run)).c_str(), (unit + "/s").c_str(), accText,
-                run.peakRssMb, run.rssIncreaseMb, run.peakPerAlgorithm ? "" : " *");
+                meanWallSeconds(run), humanCount(rate(run)).c_str(), (unit + "/s").c_str(),
+                accText.c_str(), run.peakRssMb, run.rssIncreaseMb,
+                run.peakPerAlgorithm ? "" : " *");
+}
+
+/// The share of the wall time an algorithm spent in its bootstrap (mlt), mean over seeds.
+std::optional<double> bootstrapShare(const AlgorithmRun& run) {
+    std::vector<double> v;
+    for (const auto& r : run.runs) {
+        auto b = r.stats.find("bootstrap_seconds");
+        if (b != r.stats.end() && r.wallSeconds > 0) v.push_back(b->second / r.wallSeconds);
+    }
+    if (v.empty()) return std::nullopt;
+    return spreadOf(v).mean;
+}
+
+/// Cost per sample or mutation and rays/s, each also relative to the first algorithm's.
+void printCostRows(const std::vector<AlgorithmRun>& runs) {
+    const AlgorithmRun& base = runs.front();
+    std::printf(
+        "\nsampling cost (render_seconds per sample or mutation: pt/bdpt passes, mlt "
+        "chains) and rays/s, relative to %s\n",
+        base.algorithm.c_str());
+    std::string relative = "x " + base.algorithm;
+    std::printf("%-12s %14s %10s %10s %12s %10s %10s\n", "algorithm", "units/s", "us/unit",
+                relative.c_str(), "rays/s", relative.c_str(), "bootstrap");
+    for (const auto& r : runs) {
+        auto cost = meanSecondsPerUnit(r), rays = raysPerSecond(r);
+        auto share = bootstrapShare(r);
+        std::printf("%-12s %14s %10s %10s %12s %10s %10s\n", r.algorithm.c_str(),
+                    cost ? humanCount(1 / *cost).c_str() : "-",
+                    formatted("%.4g", cost ? std::optional(*cost * 1e6) : std::nullopt).c_str(),
+                    formatted("%.3g", ratio(cost, meanSecondsPerUnit(base))).c_str(),
+                    rays ? humanCount(*rays).c_str() : "-",
+                    formatted("%.3g", ratio(rays, raysPerSecond(base))).c_str(),
+                    share ? (formatted("%.0f", *share * 100) + "%").c_str() : "-");
+    }
+}
+
+/// Acceptance per mutation type, mean over the seeds that proposed it, for the algorithms that
+/// report mutation types.
+void printAcceptanceRows(const std::vector<AlgorithmRun>& runs) {
+    bool header = false;
+    for (const auto& r : runs) {
+        auto perMutation = acceptancePerMutation(statistics(r));
+        if (perMutation.empty()) continue;
+        if (!header) std::printf("\nacceptance per mutation type, mean over seeds\n");
+        header = true;
+        std::printf("%-12s", r.algorithm.c_str());
+        for (const auto& [name, a] : perMutation)
+            std::printf("  %s %s", name.c_str(), formatted("%.3f", a).c_str());
+        std::printf("\n");
+    }
 }
 
 void printLayerRows(const std::vector<AlgorithmRun>& runs,
@@ -141,7 +227,8 @@ double meanWallSeconds(const AlgorithmRun& run) {
     return over(run, [](const SeedRun& r) { return r.wallSeconds; }).mean;
 }
 
-nlohmann::json resultJson(const AlgorithmRun& run, const std::vector<std::string>& layerOrder,
+nlohmann::json resultJson(const AlgorithmRun& run, const AlgorithmRun& baseline,
+                          const std::vector<std::string>& layerOrder,
                           const ReferenceErrors& referenceErrors) {
     LayerSpread combined = layerSpread(run, kCombinedLayerName);
     Spread seconds = over(run, [](const SeedRun& r) { return r.wallSeconds; });
@@ -158,17 +245,29 @@ nlohmann::json resultJson(const AlgorithmRun& run, const std::vector<std::string
     j["rate"] = rate(run);
     j["rate_unit"] = run.runs.empty() ? "" : run.runs.front().unit + "/s";
     j["units_per_pixel_mean"] = unitsPerPixel(run);
-    auto acc = acceptance(run);
-    j["acceptance"] = acc ? nlohmann::json(*acc) : nlohmann::json();
+    j["acceptance"] = orNull(acceptance(run));
     j["peak_rss_mb"] = run.peakRssMb;
     j["rss_increase_mb"] = run.rssIncreaseMb;
     j["peak_rss_per_algorithm"] = run.peakPerAlgorithm;
+    j["baseline"] = baseline.algorithm;
+    j["seconds_per_unit"] = orNull(meanSecondsPerUnit(run));
+    j["cost_per_unit_relative"] =
+        orNull(ratio(meanSecondsPerUnit(run), meanSecondsPerUnit(baseline)));
+    j["rays_per_second"] = orNull(raysPerSecond(run));
+    j["rays_per_second_relative"] = orNull(ratio(raysPerSecond(run), raysPerSecond(baseline)));
+    j["bootstrap_share"] = orNull(bootstrapShare(run));
+    nlohmann::json perMutation = nlohmann::json::object();
+    for (const auto& [name, a] : acceptancePerMutation(statistics(run)))
+        perMutation[name] = orNull(a);
+    j["acceptance_per_mutation"] = perMutation;
+    j["statistics_mean"] = meanStatistics(statistics(run));
     nlohmann::json perSeed = nlohmann::json::array();
     for (const auto& r : run.runs)
         perSeed.push_back({{"seed", r.seed},
                            {"rmse", r.errors.front().rmse},
                            {"relmse", r.errors.front().relMse},
-                           {"seconds", r.wallSeconds}});
+                           {"seconds", r.wallSeconds},
+                           {"statistics", r.stats}});
     j["per_seed"] = perSeed;
     j["layers"] = layersJson(run, layerOrder, referenceErrors);
     return j;
@@ -183,6 +282,8 @@ void printQualityTables(const std::vector<AlgorithmRun>& runs,
     bool lifetime = false;
     for (const auto& r : runs) lifetime = lifetime || !r.peakPerAlgorithm;
     if (lifetime) std::printf("* the process's lifetime peak (the peak could not be reset)\n");
+    if (!runs.empty()) printCostRows(runs);
+    printAcceptanceRows(runs);
     printLayerRows(runs, layerOrder, referenceErrors, tableLayers);
 }
 

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/run_figures.h"
 #include "image_metrics.h"
 #include "render_settings.h"
 
@@ -17,9 +18,10 @@ struct SeedRun {
     uint64_t seed = 0;
     std::vector<LayerError> errors;  // "combined" first, then layers in both render and reference
     double wallSeconds = 0;
-    double unitsPerPixel = 0;  // samples or mutations per pixel actually done
-    std::string unit;          // "samples" or "mutations"
-    std::optional<double> acceptance;
+    double unitsPerPixel = 0;          // samples or mutations per pixel actually done
+    std::string unit;                  // "samples" or "mutations"
+    std::optional<double> acceptance;  // over all mutation types (overallAcceptance)
+    Statistics stats;                  // the render's statistics (RenderStats values)
 };
 
 struct AlgorithmRun {
@@ -34,11 +36,15 @@ struct AlgorithmRun {
 /// The reference's own error per layer, read from its metadata (empty when it has none).
 using ReferenceErrors = std::map<std::string, LayerError>;
 
-/// One entry of "results": the DESIGN.md fields and per-layer figures.
-nlohmann::json resultJson(const AlgorithmRun& run, const std::vector<std::string>& layerOrder,
+/// One entry of "results": the DESIGN.md fields, per-layer figures, the statistics' means, and
+/// the cost per unit and rays/s relative to `baseline` (the run's first algorithm).
+nlohmann::json resultJson(const AlgorithmRun& run, const AlgorithmRun& baseline,
+                          const std::vector<std::string>& layerOrder,
                           const ReferenceErrors& referenceErrors);
 
-/// The two tables on stdout: one row per algorithm, then one row per type layer.
+/// The tables on stdout: one row per algorithm; its cost per sample or mutation and rays/s
+/// against the first algorithm's; acceptance per mutation type (when an algorithm has
+/// mutations); one row per type layer.
 void printQualityTables(const std::vector<AlgorithmRun>& runs,
                         const std::vector<std::string>& layerOrder,
                         const ReferenceErrors& referenceErrors, size_t tableLayers);
