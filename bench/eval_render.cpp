@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 
 #include "frontend/progress_bar.h"
 #include "gltf/gltf_loader.h"
@@ -16,11 +17,20 @@ namespace partita::eval {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
+/// The progress bar, and the watchdog of a time budget: past `deadline` it cancels the render.
 class LabelledBar : public RenderObserver {
   public:
-    LabelledBar(const std::string& label, bool quiet)
-        : bar_(ProgressBar::stderrIsTerminal()), label_(label), quiet_(quiet) {}
+    LabelledBar(const std::string& label, bool quiet, Clock::time_point deadline,
+                std::atomic<bool>& cancel)
+        : bar_(ProgressBar::stderrIsTerminal()),
+          label_(label),
+          quiet_(quiet),
+          deadline_(deadline),
+          cancel_(cancel) {}
     void onProgress(const RenderProgress& p) override {
+        if (Clock::now() > deadline_) cancel_ = true;
         if (quiet_) return;
         RenderProgress labelled = p;
         labelled.phase = label_;
@@ -34,7 +44,12 @@ class LabelledBar : public RenderObserver {
     ProgressBar bar_;
     std::string label_;
     bool quiet_;
+    Clock::time_point deadline_;
+    std::atomic<bool>& cancel_;
 };
+
+/// A render under a time budget that runs past twice its budget plus this is cancelled.
+constexpr double kOverrunSeconds = 10;
 
 }  // namespace
 
@@ -51,17 +66,26 @@ TimedRender renderTimed(const RenderScene& scene, const std::string& algorithm,
                         const std::string& label) {
     settings.previewIntervalSeconds = 0;  // nobody watches; previews would cost resolves
     std::atomic<bool> cancel{false};
-    LabelledBar bar(label, quiet);
-    auto start = std::chrono::steady_clock::now();
+    auto start = Clock::now();
+    auto deadline =
+        settings.budgetKind == BudgetKind::Seconds
+            ? start + std::chrono::duration_cast<Clock::duration>(
+                          std::chrono::duration<double>(2 * settings.budget + kOverrunSeconds))
+            : Clock::time_point::max();
+    LabelledBar bar(label, quiet, deadline, cancel);
     TimedRender out;
     try {
         out.result = runRender(scene, algorithm, settings, pool, cancel, bar);
+    } catch (const RenderCancelled&) {
+        bar.finish();
+        throw std::runtime_error(label + " ran past twice its time budget of " +
+                                 budgetText(settings) + " plus " +
+                                 std::to_string(int(kOverrunSeconds)) + " s: cancelled");
     } catch (...) {
         bar.finish();
         throw;
     }
-    out.wallSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     bar.finish();
     return out;
 }

@@ -26,7 +26,8 @@ struct TimedRender {
 };
 
 /// Renders with `algorithm` on `pool`, no previews; a progress bar on stderr labelled `label`
-/// unless `quiet`. Exceptions of runRender pass through.
+/// unless `quiet`. Exceptions of runRender pass through. A render under a time budget that runs
+/// past twice its budget plus 10 s is cancelled: a std::runtime_error that says so.
 TimedRender renderTimed(const RenderScene& scene, const std::string& algorithm,
                         RenderSettings settings, ThreadPool& pool, bool quiet,
                         const std::string& label);
