@@ -38,14 +38,15 @@ def row(r):
     ]) + " |"
 
 
-scenes = {}  # scene -> (reference's own RMSE, rows), in the order of the files
+scenes = {}  # scene -> (reference's own RMSE, [(pt's spp, rows)]), in the order of the files
 for path in sys.argv[1:]:
     j = json.load(open(path))
     name = j["scene"].split("/")[-1].removesuffix(".gltf")
-    scenes.setdefault(name, (j["reference_rmse"], []))[1].extend(row(r) for r in j["results"])
-for name, (ref, rows) in scenes.items():
+    runs = scenes.setdefault(name, (j["reference_rmse"], []))[1]
+    runs.append((j["results"][0].get("spp", 0), [row(r) for r in j["results"]]))
+for name, (ref, runs) in scenes.items():
     print(f"\n**{name}** (the reference's own RMSE: {g(ref, 2)})\n")
     print("| algorithm | budget | RMSE | relMSE | s | units/s | cost x pt | rays/s x pt | "
           "acceptance bidir / lens / caustic / multi-chain | bootstrap | peak RSS MB (+run) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    print("\n".join(rows))
+    print("\n".join(r for _, rows in sorted(runs) for r in rows))
