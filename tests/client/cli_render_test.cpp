@@ -222,10 +222,11 @@ TEST(CliRender, PartitionedRendersEndToEndAndWatchShowsThePartitionTable) {
     EXPECT_EQ(meta["stats"]["prepass_samples"], 4000.0);
     EXPECT_EQ(meta["labels"]["partition_0_type"], image.layers.front().name);
 
-    // watch shows the table of a detached job (of 2 s, so that the watch joins while it runs).
+    // watch shows the table of a detached job (of 6 s, so that the watch joins while it runs,
+    // even on a loaded machine).
     Daemon daemon;
     RunResult submit = partita({"--server", daemon.address(), "render", "cornell-glass", "--detach",
-                                "--algorithm", "partitioned", "--seconds", "2", "--width", "16",
+                                "--algorithm", "partitioned", "--seconds", "6", "--width", "16",
                                 "--height", "12", "--bootstrap", "4000"});
     ASSERT_EQ(submit.exitCode, 0) << submit.describe();
     RunResult watch = partita({"--server", daemon.address(), "watch", lines(submit.out).at(0)});
