@@ -23,11 +23,12 @@ class ThreadPool;
 /// Thrown out of Algorithm::render when the cancel flag is raised.
 struct RenderCancelled {};
 
-/// Per-partition statistics of the MCMC algorithms (paper Sec. 4): type string, acceptance
-/// rate, normalising constant b_i and selection probability P(i).
+/// Per-partition statistics of the MCMC algorithms (paper Sec. 4): type string, running
+/// acceptance rate, normalising constant b_i, selection probability P(i) and the pre-pass's
+/// gamma.
 struct PartitionProgress {
     std::string type;
-    double acceptance = 0, b = 0, p = 0;
+    double acceptance = 0, b = 0, p = 0, gamma = 0;
 };
 
 /// One progress report. `done`/`total` are in `unit` (e.g. "samples", "mutations").

@@ -39,6 +39,7 @@ RenderProgress ProgressReporter::snapshotLocked() const {
     p.total = total_;
     p.elapsedSeconds = elapsedSeconds();
     p.values = values_;
+    p.partitions = partitions_;
     p.ratePerSecond = p.elapsedSeconds > 0 ? done_ / p.elapsedSeconds : 0;
     if (total_ > 0 && p.ratePerSecond > 0)
         p.etaSeconds = std::max(0.0, (total_ - done_) / p.ratePerSecond);
@@ -59,6 +60,11 @@ void ProgressReporter::advance(double units) {
 void ProgressReporter::setValues(std::map<std::string, double> values) {
     std::lock_guard lock(mutex_);
     values_ = std::move(values);
+}
+
+void ProgressReporter::setPartitions(std::vector<PartitionProgress> partitions) {
+    std::lock_guard lock(mutex_);
+    partitions_ = std::move(partitions);
 }
 
 void ProgressReporter::flush() {

@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "algorithm.h"
 
@@ -25,6 +26,9 @@ class ProgressReporter {
     /// Thread-safe. Replaces the named statistics of the phase (RenderProgress::values); they go
     /// out with the next report.
     void setValues(std::map<std::string, double> values);
+    /// Thread-safe. Replaces the per-partition statistics of the phase
+    /// (RenderProgress::partitions); they go out with the next report.
+    void setPartitions(std::vector<PartitionProgress> partitions);
     double elapsedSeconds() const;
     double done() const;
 
@@ -37,6 +41,7 @@ class ProgressReporter {
     mutable std::mutex mutex_;
     double done_ = 0;
     std::map<std::string, double> values_;
+    std::vector<PartitionProgress> partitions_;
 };
 
 }  // namespace partita

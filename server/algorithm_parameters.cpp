@@ -12,8 +12,8 @@ std::vector<std::string> algorithmParameters(const std::string& algorithm) {
     static const std::map<std::string, std::vector<std::string>> own = {
         {"pt", {"spp"}},
         {"bdpt", {"spp"}},
-        {"mlt", {"mpp"}},
-        {"partitioned", {"mpp", "k"}},
+        {"mlt", {"mpp", "bootstrap"}},
+        {"partitioned", {"mpp", "k", "prepass", "bootstrap"}},
         {"guided", {"mpp", "k", "y", "radius", "epsilon"}},
     };
     auto it = own.find(algorithm);

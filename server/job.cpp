@@ -75,6 +75,7 @@ pb::Progress toProto(const RenderProgress& p) {
         s->set_acceptance(part.acceptance);
         s->set_b(part.b);
         s->set_p(part.p);
+        s->set_gamma(part.gamma);
     }
     return out;
 }

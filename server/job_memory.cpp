@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "integrators/mlt/mlt_settings.h"
+#include "integrators/partitioned/partitioned_settings.h"
 
 namespace partita::server {
 
@@ -19,15 +20,13 @@ constexpr double kPartition = 12;                              // bytes per pixe
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
-bool splatsAnywhere(const std::string& algorithm) {
-    return algorithm == "partitioned" || algorithm == "guided";
-}
-
-/// Films an algorithm holds at once: one per render thread for the partitioned MCMC methods;
-/// bdpt keeps a camera film and a light-tracing film and sums them into a third to resolve; mlt
-/// splats every chain into one film, round by round, in chain order.
-int filmCount(const std::string& algorithm, int renderThreads) {
-    if (splatsAnywhere(algorithm)) return std::max(1, renderThreads);
+/// Films an algorithm holds at once: one per render thread for guided; bdpt keeps a camera film
+/// and a light-tracing film and sums them into a third to resolve; mlt splats every chain into
+/// one film, round by round, in chain order; partitioned has one film per partition group (K
+/// and the complement).
+int filmCount(const std::string& algorithm, const RenderSettings& s, int renderThreads) {
+    if (algorithm == "guided") return std::max(1, renderThreads);
+    if (algorithm == "partitioned") return std::max(0, s.partitions) + 1;
     return algorithm == "bdpt" ? 3 : 1;
 }
 
@@ -58,22 +57,55 @@ double bdptExtraBytes(const RenderSettings& s, double pixels) {
 ///   mpp and 225 at 16 (512x384), 190 at 64 and 770 at 256 (128x96): counted as 150 B
 ///   sqrt(mpp), bounded by what ~1000 types of 12 B a pixel can take (time budgets at that
 ///   bound).
+/// A job's own bootstrap samples (RenderSettings::bootstrapSamples), when set, count instead of
+/// the default.
 struct MltExtra {
     double bootstrap, chains, types;
 };
-MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
-    const MltSettings defaults;
-    constexpr double kCandidatesPerSample = 14, kCandidateBytes = 16, kSplatBytes = 40;
-    constexpr double kChainStateBytes = 16 << 10;
-    MltExtra e;
-    e.bootstrap = 2 * double(defaults.bootstrapSamples) * kCandidatesPerSample * kCandidateBytes;
-    double splats = 2 * double(defaults.roundMutations) * kSplatBytes;
+
+/// The chains' splats and states (as above), for `chains` chains of rounds of `roundMutations`.
+double chainBytes(int chains, uint64_t roundMutations, double pixels) {
+    constexpr double kSplatBytes = 40, kChainStateBytes = 16 << 10;
+    double splats = 2 * double(roundMutations) * kSplatBytes;
     // The shared SplatBuffer sums one chain's splats at a time: 4 tent copies of 32 B, twice
     // (buffered and sorted), and a start index per pixel.
-    double buffer = 2 * double(defaults.roundMutations) * 4 * 32 * 2 + 4 * pixels;
-    e.chains = double(defaults.chains) * (splats + kChainStateBytes) + buffer;
+    double buffer = 2 * double(roundMutations) * 4 * 32 * 2 + 4 * pixels;
+    return double(chains) * (splats + kChainStateBytes) + buffer;
+}
+
+/// The type blocks of a film that every type splats into (mlt's film, as above).
+double anyTypeBlocks(const RenderSettings& s, double pixels) {
     double mpp = s.budgetKind == BudgetKind::Seconds ? 1e12 : s.budget;
-    e.types = pixels * std::min(150 * std::sqrt(std::max(1.0, mpp)), 12000.0);
+    return pixels * std::min(150 * std::sqrt(std::max(1.0, mpp)), 12000.0);
+}
+
+MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
+    const MltSettings defaults;
+    constexpr double kCandidatesPerSample = 14, kCandidateBytes = 16;
+    uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.bootstrapSamples;
+    MltExtra e;
+    e.bootstrap = 2 * double(samples) * kCandidatesPerSample * kCandidateBytes;
+    e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
+    e.types = anyTypeBlocks(s, pixels);
+    return e;
+}
+
+/// partitioned's own extra memory, with the defaults of PartitionedSettings
+/// (integrators/partitioned/partitioned_settings.h), besides its K + 1 films:
+/// - the pre-pass's half-B records, 32 B each (partition/prepass.h), ~13 a sample as measured
+///   for mlt's bootstrap, for half the samples, at most the pre-pass's memory budget;
+/// - the chains' splats and states as for mlt (the same number of chains over all partitions);
+/// - the complement's film gathers every other type as mlt's film does; a partition's film
+///   holds one type mostly, which the film allowance covers.
+MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
+    const PartitionedSettings defaults;
+    constexpr double kRecordsPerSample = 13, kRecordBytes = 32;
+    uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.prepassSamples;
+    MltExtra e;
+    e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,
+                           double(defaults.prepassMemoryBytes));
+    e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
+    e.types = anyTypeBlocks(s, pixels);
     return e;
 }
 
@@ -101,9 +133,11 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double padded =
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
-    int films = filmCount(algorithm, renderThreads);
+    int films = filmCount(algorithm, s, renderThreads);
     int layers = std::max(0, s.maxTypeLayers) + 2;  // combined and "other" too
-    int partitions = hasPartitions(algorithm) ? std::max(1, s.partitions) : 0;
+    int partitions = algorithm == "partitioned" ? std::max(0, s.partitions) + 1
+                     : hasPartitions(algorithm) ? std::max(1, s.partitions)
+                                                : 0;
 
     double film = films * padded * (kFilmCombined + kFilmTypeAllowance);
     double images = layers * pixels * kLayerCopies;
@@ -112,6 +146,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double splats = algorithm == "bdpt" ? bdptExtraBytes(s, pixels) : 0;
     MltExtra mlt{0, 0, 0};
     if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
+    if (algorithm == "partitioned") mlt = partitionedExtraBytes(s, pixels);
     double mltBytes = mlt.bootstrap + mlt.chains + mlt.types;
     MemoryEstimate e;
     e.bytes = uint64_t(film + images + parts + splats + mltBytes + scene + kBaseline);
@@ -124,8 +159,10 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         e.breakdown += ", " + std::to_string(partitions) + " partitions " + humanBytes(parts);
     if (splats > 0) e.breakdown += ", bdpt types and splats " + humanBytes(splats);
     if (mltBytes > 0)
-        e.breakdown += ", mlt bootstrap " + humanBytes(mlt.bootstrap) + ", chains and splats " +
-                       humanBytes(mlt.chains) + ", types " + humanBytes(mlt.types);
+        e.breakdown += (algorithm == "partitioned" ? ", pre-pass records " : ", mlt bootstrap ") +
+                       humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains) +
+                       (algorithm == "partitioned" ? ", complement types " : ", types ") +
+                       humanBytes(mlt.types);
     e.breakdown += ", scene " + humanBytes(scene);
     return e;
 }

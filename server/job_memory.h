@@ -4,14 +4,17 @@
 // measured peaks (server/README.md "Memory"):
 //
 // - the accumulation film: combined sums (12 B/pixel, tiles padded to 16x16) plus the sparse
-//   per-type blocks (an allowance of 24 B/pixel); the partitioned methods keep one film per
-//   render thread, bdpt three; bdpt's and mlt's type blocks grow with the budget (counted
-//   apart), and mlt adds its bootstrap's candidates and its chains' splats and states;
+//   per-type blocks (an allowance of 24 B/pixel); guided keeps one film per render thread,
+//   partitioned one per partition (K + 1, the complement's type blocks growing with the budget
+//   like mlt's), bdpt three; bdpt's and mlt's type blocks grow with the budget (counted
+//   apart), and mlt adds its bootstrap's candidates and its chains' splats and states,
+//   partitioned its pre-pass's half-B records (32 B, ~13 a sample, half the samples) and the
+//   same chains;
 // - every resolved layer (combined, up to max_type_layers types, "other") is a dense float RGB
 //   image, 12 B/pixel, alive in up to three copies at the peak: the latest preview frame the job
 //   holds for watchers, the final image, and the EXR writer's interleaved buffer; plus one
 //   serialized raw preview shared by raw watchers (12 B/pixel) and its PNGs (~1 B/pixel);
-// - partitions (K images of 12 B/pixel) for the partitioned methods;
+// - partitions (K images of 12 B/pixel; partitioned K + 1) for the partitioned methods;
 // - the scene: four times its file bytes (parsed arrays, render copies, BVH).
 #pragma once
 

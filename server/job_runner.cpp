@@ -151,6 +151,8 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
                        {"seed", s.seed},
                        {"max_depth", s.maxDepth},
                        {"k", s.partitions},
+                       {"prepass", s.prepass},
+                       {"bootstrap_samples", s.bootstrapSamples},
                        {"y", s.guideCandidates},
                        {"radius", shortest(s.guideRadius)},
                        {"epsilon", shortest(s.guideEpsilon)},

@@ -157,6 +157,10 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     }
 
     if (spec.has_k()) s.partitions = spec.k();
+    if (spec.prepass().size() > 64)
+        return invalid("the pre-pass name is longer than 64 characters");
+    if (!spec.prepass().empty()) s.prepass = spec.prepass();
+    if (spec.has_bootstrap_samples()) s.bootstrapSamples = spec.bootstrap_samples();
     if (spec.has_y()) s.guideCandidates = spec.y();
     if (spec.has_radius()) s.guideRadius = spec.radius();
     if (spec.has_epsilon()) s.guideEpsilon = spec.epsilon();

@@ -28,6 +28,8 @@ partita::v1::JobSpec makeJobSpec(const CLI::App& app, const JobFlags& flags) {
     if (given("--seed")) spec.set_seed(s.seed);
     if (given("--max-depth")) spec.set_max_depth(s.maxDepth);
     if (given("--k")) spec.set_k(s.partitions);
+    if (given("--prepass")) spec.set_prepass(s.prepass);
+    if (given("--bootstrap")) spec.set_bootstrap_samples(s.bootstrapSamples);
     if (given("--y")) spec.set_y(s.guideCandidates);
     if (given("--radius")) spec.set_radius(s.guideRadius);
     if (given("--epsilon")) spec.set_epsilon(s.guideEpsilon);
@@ -65,6 +67,8 @@ std::string validateJobSpec(const partita::v1::JobSpec& spec) {
     if (spec.has_seed()) s.seed = spec.seed();
     if (spec.has_max_depth()) s.maxDepth = spec.max_depth();
     if (spec.has_k()) s.partitions = spec.k();
+    if (!spec.prepass().empty()) s.prepass = spec.prepass();
+    if (spec.has_bootstrap_samples()) s.bootstrapSamples = spec.bootstrap_samples();
     if (spec.has_y()) s.guideCandidates = spec.y();
     if (spec.has_radius()) s.guideRadius = spec.radius();
     if (spec.has_epsilon()) s.guideEpsilon = spec.epsilon();

@@ -22,7 +22,8 @@ double secondsSince(Clock::time_point t) {
 void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
                            double startupSeconds,
                            const std::function<LayeredImage(ThreadPool*)>& resolve,
-                           const std::function<void(RenderStats&)>& addStats) {
+                           const std::function<void(RenderStats&)>& addStats,
+                           const std::function<void(ProgressReporter&)>& publish) {
     const RenderSettings& rs = ctx.settings;
     bool timed = rs.budgetKind == BudgetKind::Seconds;
     // A start-up that used the whole time budget still leaves one short round (an image); 0
@@ -33,6 +34,7 @@ void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const 
     auto lastPreview = Clock::now();
     bool first = true;
     auto afterRound = [&](double elapsed) {
+        if (publish) publish(progress);
         if (rs.previewIntervalSeconds <= 0) return;
         if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
         first = false;

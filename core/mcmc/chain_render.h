@@ -16,11 +16,14 @@ namespace partita {
 
 /// Runs `runner` (phase "render", progress in mutations) under ctx's budget: all the plan's
 /// mutations, or the time left after a start-up of `startupSeconds`. A preview at the first
-/// round's end and then once per preview interval: resolve(pool) and addStats(stats).
+/// round's end and then once per preview interval: resolve(pool) and addStats(stats). After
+/// every round, afterRound(progress) (when set) may add to the phase's next report, e.g. its
+/// partitions (ProgressReporter::setPartitions).
 void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
                            double startupSeconds,
                            const std::function<LayeredImage(ThreadPool*)>& resolve,
-                           const std::function<void(RenderStats&)>& addStats);
+                           const std::function<void(RenderStats&)>& addStats,
+                           const std::function<void(ProgressReporter&)>& afterRound = {});
 
 /// The first candidate from index `first` on whose path, regenerated, serialised and rebuilt,
 /// carries something (f* > 0) and is accepted by `accept` (empty: any): its serialised bytes,

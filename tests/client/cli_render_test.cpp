@@ -194,6 +194,54 @@ TEST(CliRender, MltRendersEndToEndAndPrintsItsAcceptance) {
         "pixel (INVALID_ARGUMENT)");
 }
 
+TEST(CliRender, PartitionedRendersEndToEndAndWatchShowsThePartitionTable) {
+    TempDir dir;
+    const std::vector<std::string> part = {
+        "--algorithm", "partitioned", "--mpp", "16",          "--width", "16",        "--height",
+        "12",          "--k",         "3",     "--bootstrap", "4000",    "--prepass", "pt"};
+    RunResult r =
+        partita(concat({"render", "cornell-glass", "--out", (dir / "p.exr").string()}, part));
+    ASSERT_EQ(r.exitCode, 0) << r.describe();
+    EXPECT_NE(r.err.find("prepass: "), std::string::npos) << "the pre-pass's progress\n"
+                                                          << r.describe();
+    std::string render = finalProgressLine(r, "render");
+    ASSERT_FALSE(render.empty()) << r.describe();
+    // The partition table follows the last plain progress line: a header, then one row per
+    // partition (type, P(i), b_i, acceptance), the complement last.
+    EXPECT_NE(r.err.find("  partition "), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("P(i)"), std::string::npos) << r.describe();
+    EXPECT_NE(r.err.find("\n  complement "), std::string::npos) << r.describe();
+    expectResults(dir / "p.exr", 16, 12);
+    LayeredImage image = readExr(dir / "p.exr");
+    ASSERT_GE(image.layers.size(), 2u) << "one layer per partition";
+    EXPECT_EQ(image.layers.back().name, "complement");
+    auto meta = nlohmann::json::parse(readText(dir / "p.json"));
+    EXPECT_EQ(meta["algorithm"], "partitioned");
+    EXPECT_EQ(meta["parameters"]["prepass"], "pt");
+    EXPECT_EQ(meta["parameters"]["bootstrap_samples"], 4000);
+    EXPECT_EQ(meta["stats"]["prepass_samples"], 4000.0);
+    EXPECT_EQ(meta["labels"]["partition_0_type"], image.layers.front().name);
+
+    // watch shows the table of a detached job (of 6 s, so that the watch joins while it runs,
+    // even on a loaded machine).
+    Daemon daemon;
+    RunResult submit = partita({"--server", daemon.address(), "render", "cornell-glass", "--detach",
+                                "--algorithm", "partitioned", "--seconds", "6", "--width", "16",
+                                "--height", "12", "--bootstrap", "4000"});
+    ASSERT_EQ(submit.exitCode, 0) << submit.describe();
+    RunResult watch = partita({"--server", daemon.address(), "watch", lines(submit.out).at(0)});
+    ASSERT_EQ(watch.exitCode, 0) << watch.describe();
+    EXPECT_FALSE(finalProgressLine(watch, "render").empty()) << watch.describe();
+    EXPECT_NE(watch.err.find("  partition "), std::string::npos) << watch.describe();
+    EXPECT_NE(watch.err.find("\n  complement "), std::string::npos) << watch.describe();
+
+    // A pre-pass the service does not know: its one-line refusal.
+    expectOneLineError(
+        partita({"--server", daemon.address(), "render", "cornell", "--algorithm", "partitioned",
+                 "--prepass", "magic", "--width", "16", "--height", "12"}),
+        "pre-pass 'magic' is not one of auto, pt, bdpt");
+}
+
 TEST(CliRender, CancelARunningJob) {
     Daemon daemon;
     RunResult submit = partita({"--server", daemon.address(), "render", "cornell", "--detach",

@@ -81,6 +81,44 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     EXPECT_EQ(waitForEnd(*stub2, small.id, 60s).state(), pb::JOB_STATE_DONE);
 }
 
+TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-job-memory", "48"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    // 16x12, K = 10: ~53 MiB by the estimate: 11 films (K and the complement), the pre-pass's
+    // half-B records (50000 samples of ~13 records of 32 B: 19.8 MiB) and the 256 chains'
+    // splats and states as for mlt (24.5 MiB).
+    pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
+    spec.set_algorithm("partitioned");
+    spec.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    spec.set_k(10);
+    Submitted refused = submit(*stub, spec);
+    EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    const std::string& why = refused.status.error_message();
+    EXPECT_NE(why.find("11 films"), std::string::npos) << "one film per partition\n" << why;
+    EXPECT_NE(why.find("11 partitions"), std::string::npos) << why;
+    EXPECT_NE(why.find("pre-pass records 19.8 MiB"), std::string::npos) << why;
+    EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
+    EXPECT_NE(why.find("complement types"), std::string::npos) << why;
+
+    // A smaller pre-pass (4000 samples: 812.5 KiB of records) fits, and runs.
+    spec.set_bootstrap_samples(4000);
+    Submitted small = submit(*stub, spec);
+    ASSERT_TRUE(small.status.ok()) << small.status.error_message();
+    EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
+
+    // So does mlt's bootstrap: 4000 samples instead of 100000 bring it under 48 MiB too.
+    pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
+    mlt.set_algorithm("mlt");
+    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    EXPECT_EQ(submit(*stub, mlt).status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    mlt.set_bootstrap_samples(4000);
+    Submitted mltSmall = submit(*stub, mlt);
+    ASSERT_TRUE(mltSmall.status.ok()) << mltSmall.status.error_message();
+    EXPECT_EQ(waitForEnd(*stub, mltSmall.id, 60s).state(), pb::JOB_STATE_DONE);
+}
+
 TEST(ServiceResources, RunningJobsCountAgainstTheTotal) {
     TempDir store;
     // Each job below is estimated at ~90 MiB (1000 type layers on 48x36 pixels): one fits in

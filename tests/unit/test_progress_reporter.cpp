@@ -1,6 +1,8 @@
 // ProgressReporter: phase start, rate and ETA, named values (setValues) in the next report; and
 // mlt's reports: the phases "bootstrap" (samples) and "render" (mutations), the latter with the
-// running acceptance per mutation type, ending with the final statistics' acceptance.
+// running acceptance per mutation type, ending with the final statistics' acceptance;
+// setPartitions; and partitioned's reports: "prepass" then "render" with one PartitionProgress
+// per partition (type, P(i), b_i, gamma, running acceptance) equal to the final statistics.
 #include <gtest/gtest.h>
 
 #include <mutex>
@@ -110,6 +112,65 @@ TEST(ProgressReporter, MltReportsBootstrapThenMutationsWithAcceptance) {
     }
     EXPECT_GE(acceptances, 2u) << "cornell: at least the bidirectional and lens mutations";
     EXPECT_EQ(last.values.size(), acceptances + 1);
+}
+
+TEST(ProgressReporter, PartitionsGoOutWithTheNextReportAndStay) {
+    Recorder r;
+    ProgressReporter progress(r, "render", "mutations", 100, 0, /*minInterval=*/3600);
+    EXPECT_TRUE(r.reports.front().partitions.empty());
+    progress.setPartitions({{"LDE", 0.5, 2.0, 0.75, 1.5}, {"complement", 0.25, 1.0, 0.25, 0.5}});
+    progress.advance(10);  // held back by the interval
+    progress.flush();
+    ASSERT_EQ(r.reports.back().partitions.size(), 2u);
+    EXPECT_EQ(r.reports.back().partitions[0].type, "LDE");
+    EXPECT_EQ(r.reports.back().partitions[0].p, 0.75);
+    EXPECT_EQ(r.reports.back().partitions[0].gamma, 1.5);
+    EXPECT_EQ(r.reports.back().partitions[1].type, "complement");
+    progress.flush();
+    EXPECT_EQ(r.reports.back().partitions.size(), 2u) << "they stay until replaced";
+}
+
+TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
+    RenderScene scene(
+        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf"));
+    RenderSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.budgetKind = BudgetKind::MutationsPerPixel;
+    s.budget = 8;
+    s.partitions = 3;
+    s.bootstrapSamples = 4000;
+    s.previewIntervalSeconds = 0;
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    Recorder r;
+    RenderResult result = runRender(scene, "partitioned", s, pool, cancel, r);
+
+    ASSERT_GE(r.reports.size(), 3u);
+    EXPECT_EQ(r.reports.front().phase, "prepass");
+    EXPECT_EQ(r.reports.front().unit, "samples");
+    for (const RenderProgress& p : r.reports)
+        if (p.phase == "prepass") {
+            EXPECT_TRUE(p.partitions.empty());
+        }
+    const RenderProgress& last = r.reports.back();
+    EXPECT_EQ(last.phase, "render");
+    int k = int(result.stats.values.at("partitions"));
+    ASSERT_GE(k, 2);
+    ASSERT_EQ(last.partitions.size(), size_t(k));
+    double sumP = 0;
+    for (int g = 0; g < k; ++g) {
+        std::string key = "partition_" + std::to_string(g) + "_";
+        const PartitionProgress& pp = last.partitions[size_t(g)];
+        EXPECT_EQ(pp.type, result.stats.labels.at(key + "type"));
+        EXPECT_EQ(pp.p, result.stats.values.at(key + "p"));
+        EXPECT_EQ(pp.b, result.stats.values.at(key + "b"));
+        EXPECT_EQ(pp.gamma, result.stats.values.at(key + "gamma"));
+        EXPECT_EQ(pp.acceptance, result.stats.values.at(key + "acceptance"));
+        EXPECT_GT(pp.b, 0);
+        sumP += pp.p;
+    }
+    EXPECT_NEAR(sumP, 1.0, 1e-9);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -65,6 +66,23 @@ std::string acceptanceText(const RenderProgress& p) {
     return out.empty() ? out : "acc" + out;
 }
 
+std::string partitionTable(const RenderProgress& p) {
+    if (p.partitions.empty()) return "";
+    size_t width = 9;  // "partition"
+    for (const auto& part : p.partitions) width = std::max(width, part.type.size());
+    width = std::min<size_t>(width, 40);
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-*s  %6s  %9s  %5s\n", int(width), "partition", "P(i)",
+                  "b_i", "acc");
+    std::string out = line;
+    for (const auto& part : p.partitions) {
+        std::snprintf(line, sizeof line, "  %-*s  %6.3f  %9.3e  %5.2f\n", int(width),
+                      part.type.substr(0, width).c_str(), part.p, part.b, part.acceptance);
+        out += line;
+    }
+    return out;
+}
+
 void ProgressBar::update(const RenderProgress& p) {
     std::lock_guard lock(mutex_);
     double fraction = p.total > 0 ? std::clamp(p.done / p.total, 0.0, 1.0) : -1;
@@ -86,8 +104,21 @@ void ProgressBar::update(const RenderProgress& p) {
         // One terminal line, never wrapped (a wrapped line cannot be redrawn in place), padded
         // to the width so that nothing of a longer line before it remains.
         std::string text = line;
-        text.resize(terminalColumns() - 1, ' ');
-        std::fprintf(stderr, "\r%s", text.c_str());
+        size_t columns = terminalColumns() - 1;
+        text.resize(columns, ' ');
+        // The partition table above the bar: back to its first line, clear below, redraw.
+        std::string table = partitionTable(p), redraw;
+        if (tableLines_ > 0) redraw = "\r\x1b[" + std::to_string(tableLines_) + "A\x1b[J";
+        tableLines_ = 0;
+        for (size_t start = 0; start < table.size();) {
+            size_t end = table.find('\n', start);
+            std::string row = table.substr(start, end - start);
+            if (row.size() > columns) row.resize(columns);
+            redraw += "\r" + row + "\n";
+            ++tableLines_;
+            start = end + 1;
+        }
+        std::fprintf(stderr, "%s\r%s", redraw.c_str(), text.c_str());
         std::fflush(stderr);
         drawn_ = true;
         return;
@@ -96,7 +127,7 @@ void ProgressBar::update(const RenderProgress& p) {
     char line[512];
     std::snprintf(line, sizeof line, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
                   fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
-    pendingPlain_ = line;
+    pendingPlain_ = line + partitionTable(p);
     auto now = std::chrono::steady_clock::now();
     if (now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
@@ -108,6 +139,7 @@ void ProgressBar::finish() {
     std::lock_guard lock(mutex_);
     if (interactive_ && drawn_) std::fprintf(stderr, "\n");
     drawn_ = false;
+    tableLines_ = 0;
     if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), stderr);
     pendingPlain_.clear();
 }

@@ -2,7 +2,9 @@
 // redraws one line on stderr; otherwise it prints a plain line when work is first reported
 // done, then at most every 5 s, and the latest one when the work is over (finish), so that a log
 // shows how far it got and never only "0.0% ... ETA ?". An MCMC method's running acceptance
-// per mutation type follows the ETA.
+// per mutation type follows the ETA. A report with partitions (partitioned's "render") comes with
+// a compact table of them (type, P(i), b_i, running acceptance): on a terminal redrawn in place
+// above the bar, otherwise printed with each plain line (at most every 5 s, and at the end).
 #pragma once
 
 #include <chrono>
@@ -27,8 +29,15 @@ class ProgressBar {
     bool drawn_ = false;
     std::mutex mutex_;
     std::chrono::steady_clock::time_point lastPlain_{};
-    std::string pendingPlain_;  // the latest plain line not printed yet
+    std::string pendingPlain_;  // the latest plain line (and table) not printed yet
+    int tableLines_ = 0;        // lines of the partition table drawn above the bar
 };
+
+/// The partitions of a progress report as a small table, one line per partition after a
+/// header, each line ending in '\n'; "" when the report has none:
+///   partition    P(i)       b_i   acc
+///   LDE         0.612  1.23e-01  0.45
+std::string partitionTable(const RenderProgress& p);
 
 /// The running acceptance per mutation type of a progress report's values ("acceptance_<name>"),
 /// compact: "acc bidir 0.46 caustic 0.12 lens 0.64 multi 0.55"; "" when there is none.

@@ -18,7 +18,7 @@ from .scene import add_environment_image, scene_source
 
 # submit() keyword -> how it goes into the JobSpec. Names with '-' (as on the command line) are
 # accepted too: max-depth == max_depth.
-_INT_FIELDS = ("width", "height", "k", "y", "max_depth", "max_type_layers")
+_INT_FIELDS = ("width", "height", "k", "y", "max_depth", "max_type_layers", "bootstrap_samples")
 _FLOAT_FIELDS = ("radius", "epsilon", "preview_interval_seconds", "environment_rotation_degrees")
 _BUDGETS = {
     "spp": pb2.BUDGET_KIND_SAMPLES_PER_PIXEL,
@@ -26,9 +26,10 @@ _BUDGETS = {
     "seconds": pb2.BUDGET_KIND_SECONDS,
 }
 _ALIASES = {"preview_interval": "preview_interval_seconds", "layers": "max_type_layers",
-            "environment_rotation": "environment_rotation_degrees"}
+            "environment_rotation": "environment_rotation_degrees", "bootstrap": "bootstrap_samples"}
 JOB_PARAMETERS = tuple(sorted(
-    ("algorithm", "camera", "seed", "priority", "label", "environment", "environment_color") +
+    ("algorithm", "camera", "seed", "priority", "label", "prepass", "environment",
+     "environment_color") +
     _INT_FIELDS +
     _FLOAT_FIELDS +
     tuple(_BUDGETS) + tuple(_ALIASES)))
@@ -43,7 +44,8 @@ _RESULT_KINDS = {
 def job_spec(scene, **params) -> "pb2.JobSpec":
     """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job parameters:
     algorithm, spp | mpp | seconds, width, height, camera, seed, max_depth, k, y, radius,
-    epsilon, preview_interval, priority, label, max_type_layers, environment (an EXR/HDR image),
+    epsilon, prepass ("auto" | "pt" | "bdpt"), bootstrap_samples (alias bootstrap; 0: the
+    algorithm's default), preview_interval, priority, label, max_type_layers, environment (an EXR/HDR image),
     environment_color (R, G, B), environment_rotation. Unset ones take the server's
     defaults. Raises ValueError on an unknown or ill-typed parameter."""
     spec = pb2.JobSpec()
@@ -79,7 +81,7 @@ def job_spec(scene, **params) -> "pb2.JobSpec":
             if len(color) != 3:
                 raise ValueError(f"environment_color needs 3 values (R, G, B), got {value!r}")
             spec.environment_color.extend(color)
-        elif name in ("algorithm", "camera", "label"):
+        elif name in ("algorithm", "camera", "label", "prepass"):
             setattr(spec, name, str(value))
         else:
             raise ValueError(f"unknown job parameter '{raw_name}' (known: {', '.join(JOB_PARAMETERS)})")

@@ -28,10 +28,13 @@ def state_name(state: int) -> str:
 
 @dataclass
 class PartitionStats:
+    """One of partitioned's partitions in a progress report: its type string ("complement" for
+    the complement), its chains' running acceptance, b_i, P(i) and the pre-pass's gamma."""
     type: str
     acceptance: float
     b: float
     p: float
+    gamma: float = 0.0
 
 
 @dataclass
@@ -64,7 +67,7 @@ class Progress:
     def from_proto(cls, p) -> "Progress":
         return cls(p.phase, p.done, p.total, p.unit, p.rate_per_second, p.eta_seconds,
                    p.elapsed_seconds,
-                   [PartitionStats(q.type, q.acceptance, q.b, q.p) for q in p.partitions],
+                   [PartitionStats(q.type, q.acceptance, q.b, q.p, q.gamma) for q in p.partitions],
                    dict(p.values), p)
 
 

@@ -134,6 +134,38 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
         self.assertIn("mutations per pixel or seconds", str(ctx.exception))
 
+    def test_partitioned_progress_carries_its_partitions(self):
+        job = self.client.submit("cornell-glass", algorithm="partitioned", mpp=16, width=16,
+                                 height=12, seed=2, k=3, prepass="pt", bootstrap_samples=4000)
+        events = list(self.client.watch(job))
+        states = [e.job.state for e in events if isinstance(e, StateEvent)]
+        self.assertEqual(states[-1], "done", states)
+        self.assertIn("prepass", states)
+        progress = [e.progress for e in events if isinstance(e, ProgressEvent)]
+        self.assertEqual(progress[0].phase, "prepass")
+        self.assertEqual(progress[-1].phase, "render")
+        self.assertTrue(all(not p.partitions for p in progress if p.phase == "prepass"))
+        last = progress[-1]
+        self.assertGreaterEqual(len(last.partitions), 2)
+        self.assertEqual(last.partitions[-1].type, "complement")
+        self.assertAlmostEqual(sum(p.p for p in last.partitions), 1.0, places=9)
+        for part in last.partitions:
+            self.assertGreater(part.b, 0.0, part)
+            self.assertTrue(0.0 <= part.acceptance <= 1.0, part)
+            self.assertGreater(part.gamma, 0.0, part)
+        meta = self.client.metadata(job)
+        self.assertEqual(meta["parameters"]["prepass"], "pt")
+        self.assertEqual(meta["parameters"]["bootstrap_samples"], 4000)
+        self.assertEqual(meta["stats"]["partition_0_p"], last.partitions[0].p)
+        layers = self.client.result(job)
+        self.assertEqual([n for n in layers if n != "combined"],
+                         [p.type for p in last.partitions])
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.submit("cornell", algorithm="partitioned", mpp=4, width=16, height=12,
+                               prepass="magic")
+        self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
+        self.assertIn("auto, pt, bdpt", str(ctx.exception))
+
     def test_environment_color_goes_into_the_spec(self):
         from partita_client.client import job_spec
         spec = job_spec("cornell", environment_color=(0.5, 1, 2), environment_rotation=30)

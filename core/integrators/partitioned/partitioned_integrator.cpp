@@ -112,6 +112,28 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
     }
 }
 
+/// Per partition: its type string, P(i), b_i, gamma and the running acceptance of its chains
+/// (accepted / proposed over all its mutations so far).
+std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& partitions,
+                                                 const ChainRunner& runner) {
+    std::vector<PartitionProgress> out;
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        PartitionProgress pp;
+        pp.type = partitions[g].label;
+        pp.p = partitions[g].p;
+        pp.b = partitions[g].b;
+        pp.gamma = partitions[g].gamma;
+        uint64_t proposed = 0, accepted = 0;
+        for (const auto& [name, m] : runner.mutationStats(int(g))) {
+            proposed += m.proposed;
+            accepted += m.accepted;
+        }
+        pp.acceptance = proposed ? double(accepted) / double(proposed) : 0;
+        out.push_back(std::move(pp));
+    }
+    return out;
+}
+
 }  // namespace
 
 RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
@@ -153,7 +175,10 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
         [&](ThreadPool* pool) {
             return resolvePartitions(runner, partitions, rs.width, rs.height, pool);
         },
-        [&](RenderStats& st) { addPartitionStats(st, partitions, runner); });
+        [&](RenderStats& st) { addPartitionStats(st, partitions, runner); },
+        [&](ProgressReporter& progress) {
+            progress.setPartitions(partitionProgress(partitions, runner));
+        });
 
     RenderResult result;
     result.image = resolvePartitions(runner, partitions, rs.width, rs.height, nullptr);
