@@ -9,14 +9,19 @@
 
 namespace partita {
 
-MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, int maxDepth,
-                               const VeachMutationSettings& s) {
+PerturbationRange lensPixelRange(const Camera& camera, const VeachMutationSettings& s) {
     float largest = s.lensLargestFraction * float(std::max(camera.width(), camera.height()));
-    PerturbationRange pixels{s.lensSmallestPixels, std::max(largest, 2 * s.lensSmallestPixels)};
+    return {s.lensSmallestPixels, std::max(largest, 2 * s.lensSmallestPixels)};
+}
+
+MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, int maxDepth,
+                               const VeachMutationSettings& s, std::unique_ptr<Mutation> lens) {
+    PerturbationRange pixels = lensPixelRange(camera, s);
+    if (!lens) lens = std::make_unique<LensPerturbation>(scene, camera, pixels);
     MutationSet set;
     set.add(std::make_unique<BidirectionalMutation>(scene, camera, maxDepth, s.bidirectional),
             s.bidirectionalWeight);
-    set.add(std::make_unique<LensPerturbation>(scene, camera, pixels), s.lensWeight);
+    set.add(std::move(lens), s.lensWeight);
     set.add(std::make_unique<CausticPerturbation>(scene, camera, s.causticAngles), s.causticWeight);
     set.add(std::make_unique<MultiChainPerturbation>(scene, camera, pixels, s.multiChainAngles),
             s.multiChainWeight);

@@ -35,7 +35,13 @@ struct MutationSet {
     }
 };
 
+/// The lens and multi-chain perturbations' raster offset sizes for `camera`.
+PerturbationRange lensPixelRange(const Camera& camera, const VeachMutationSettings& settings);
+
+/// Veach's four mutations; `lens`, when given, takes the lens perturbation's place (with its
+/// weight): guided's image perturbation (guide/guided_perturbation.h).
 MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, int maxDepth,
-                               const VeachMutationSettings& settings);
+                               const VeachMutationSettings& settings,
+                               std::unique_ptr<Mutation> lens = nullptr);
 
 }  // namespace partita

@@ -1,0 +1,28 @@
+// The offset set Delta of the guided image perturbation (paper Eq. 18, Sec. 5.1.2): the pixel
+// shifts that, added to the current path's pixel p, give the candidate pixels Y'(p).
+//
+// Reversibility needs q in Y'(p) exactly when p in Y'(q), with the same multiplicity: Delta is
+// symmetric under negation. Its first half comes from a low-discrepancy sequence (Halton, bases
+// 2 and 3) mapped to the disk of radius R by (r, theta) = (R zeta_x^2, 2 pi zeta_y), which
+// concentrates candidates near the current pixel (the paper finds that advantageous), rounded
+// to whole pixels; then the centre (0, 0); then the negations of the first half.
+//
+// |Y'| odd: (|Y'| - 1) / 2 offsets, the centre, their negations. |Y'| even (the paper's 128):
+// the same with (|Y'| - 2) / 2 offsets and the centre twice, so that |Delta| = |Y'| and Delta
+// stays symmetric. Rounding makes some offsets collide (several near the centre round to
+// (0, 0)): a collision is a multiplicity, which the proposal's T counts (guided_choice.h).
+#pragma once
+
+#include <vector>
+
+namespace partita {
+
+struct PixelOffset {
+    int dx = 0, dy = 0;
+    bool operator==(const PixelOffset&) const = default;
+};
+
+/// Delta for |Y'| = `count` (>= 1) candidates in a disk of `radius` pixels (>= 0). paper Eq. 18
+std::vector<PixelOffset> guideOffsets(int count, float radius);
+
+}  // namespace partita

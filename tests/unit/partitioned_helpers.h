@@ -1,0 +1,128 @@
+// What the tests of the partitioned methods (`partitioned`, `guided`) share: tiny renders of the
+// shipped scenes, the partitions a pre-pass makes, per-partition BDPT references (the layers of
+// the types a partition holds, summed), and the convergence check of each partition's image and
+// the combined one against them, per block over independent seeds with tolerances from their
+// spread (statistics.h).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "film.h"
+#include "gltf/gltf_loader.h"
+#include "partition/partition.h"
+#include "partition/prepass.h"
+#include "render_helpers.h"
+#include "renderer.h"
+#include "statistics.h"
+#include "thread_pool.h"
+
+namespace partita::partitioned_test {
+
+constexpr int kWidth = 16, kHeight = 12, kBlocksX = 4, kBlocksY = 3, kMaxDepth = 8;
+
+inline RenderScene loadScene(const std::string& name) {
+    return RenderScene(
+        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/" + name + "/" + name + ".gltf"));
+}
+
+inline RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind) {
+    RenderSettings st;
+    st.width = kWidth;
+    st.height = kHeight;
+    st.budget = budget;
+    st.budgetKind = kind;
+    st.seed = seed;
+    st.maxDepth = kMaxDepth;
+    st.previewIntervalSeconds = 0;
+    st.maxTypeLayers = 1024;
+    return st;
+}
+
+/// The pre-pass and partitions of a scene, as `partitioned` makes them.
+inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint64_t seed,
+                                           uint64_t samples) {
+    Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
+    RenderSettings st = tinySettings(1, seed, BudgetKind::MutationsPerPixel);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    RenderObserver observer;
+    RenderContext ctx{scene, camera, st, pool, cancel, observer};
+    std::string why;
+    BootstrapSampler sampler(scene, camera, kMaxDepth, seed,
+                             choosePrepassEstimator(scene, "auto", why));
+    return makePartitions(runPrepass(ctx, sampler, samples), k);
+}
+
+/// Per block, the mean luminance of `image`.
+inline std::vector<double> blocks(const Image& image) {
+    std::vector<double> out(kBlocksX * kBlocksY, 0.0);
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            out[size_t((y * kBlocksY / kHeight) * kBlocksX + x * kBlocksX / kWidth)] +=
+                luminance(image.at(x, y));
+    return out;
+}
+
+/// The reference of partition p: the BDPT image's layers of the types it holds, summed.
+inline Image partitionReference(const LayeredImage& bdpt, const Partition& p) {
+    Image sum(kWidth, kHeight);
+    for (const ImageLayer& layer : bdpt.layers) {
+        PathType t;
+        EXPECT_TRUE(PathType::parse(layer.name, t))
+            << "the reference dropped types: " << layer.name;
+        if (!p.holds(t)) continue;
+        for (size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += layer.image.rgb[i];
+    }
+    return sum;
+}
+
+/// Each partition's image (and the combined one) against the BDPT reference of its types, per
+/// block, over independent seeds. The partitions are those of the render's own pre-pass, which
+/// are the same for every seed only if the ranking is stable: the test compares by label.
+inline void expectPartitionsConverge(const std::string& algorithm, const std::string& sceneName,
+                                     double mpp, double spp, int seeds) {
+    RenderScene scene = loadScene(sceneName);
+    std::map<std::string, std::vector<std::vector<double>>> mine, reference;
+    for (int seed = 0; seed < seeds; ++seed) {
+        RenderSettings st = tinySettings(mpp, 10 + uint64_t(seed), BudgetKind::MutationsPerPixel);
+        st.partitions = 4;
+        RenderResult r = test::renderWith(scene, algorithm, st);
+        LayeredImage bdpt =
+            test::renderWith(scene, "bdpt",
+                             tinySettings(spp, 600 + uint64_t(seed), BudgetKind::SamplesPerPixel))
+                .image;
+        mine["combined"].push_back(blocks(r.image.combined));
+        reference["combined"].push_back(blocks(bdpt.combined));
+        std::vector<Partition> partitions = partitionsOf(scene, 4, st.seed, 100000);
+        for (const Partition& p : partitions) {
+            const Image* layer = r.image.layer(p.label);
+            ASSERT_NE(layer, nullptr) << p.label;
+            mine[p.label].push_back(blocks(*layer));
+            reference[p.label].push_back(blocks(partitionReference(bdpt, p)));
+        }
+    }
+    int comparisons = 0;
+    for (const auto& [label, runs] : mine)
+        if (int(runs.size()) == seeds) comparisons += kBlocksX * kBlocksY;
+    for (const auto& [label, runs] : mine) {
+        if (int(runs.size()) != seeds) continue;  // a partition not made by every seed
+        for (size_t c = 0; c < size_t(kBlocksX * kBlocksY); ++c) {
+            std::vector<double> a, b;
+            for (const auto& v : runs) a.push_back(v[c]);
+            for (const auto& v : reference[label]) b.push_back(v[c]);
+            auto ma = test::meanAndError(a), mb = test::meanAndError(b);
+            EXPECT_NEAR(ma.mean, mb.mean, test::twoSampleTolerance(ma, mb, comparisons))
+                << sceneName << " " << label << " block " << c << ": " << algorithm << " "
+                << ma.mean << " +- " << ma.standardError << ", bdpt " << mb.mean << " +- "
+                << mb.standardError;
+        }
+    }
+    EXPECT_GE(mine.size(), 4u);
+}
+
+}  // namespace partita::partitioned_test
