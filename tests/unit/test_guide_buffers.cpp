@@ -1,16 +1,20 @@
 // The guide buffers of `guided` (paper Sec. 5.1.1): the G-buffer of the first non-specular vertex
 // per pixel, checked against rays traced independently (the scene's single-ray query, and an
-// ideal sphere for the glass and the mirror).
+// ideal sphere for the glass and the mirror); the per-partition pre-pass images.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "camera.h"
 #include "gltf/gltf_loader.h"
 #include "guide/gbuffer.h"
+#include "partition/partition.h"
+#include "partition/partition_images.h"
+#include "partition/prepass.h"
 #include "render_helpers.h"
 #include "renderer.h"
 #include "scene_builders.h"
@@ -265,6 +269,70 @@ TEST(GBuffer, IsTheSameForAnyThreadCountAndStopsOnCancel) {
     }
     two.cancel = true;
     EXPECT_THROW(two.gbuffer(), RenderCancelled);
+}
+
+// ---- per-partition pre-pass images -------------------------------------------------------
+
+struct PrepassRun {
+    PrepassResult prepass;
+    std::vector<Partition> partitions;
+};
+
+PrepassRun prepassOf(GuideRun& run, uint64_t samples, int k, uint64_t seed) {
+    std::string why;
+    BootstrapSampler sampler(run.scene, run.camera, run.settings.maxDepth, seed,
+                             choosePrepassEstimator(run.scene, "auto", why));
+    PrepassRun r;
+    r.prepass = runPrepass(run.context(), sampler, samples);
+    r.partitions = makePartitions(r.prepass, k);
+    return r;
+}
+
+TEST(PrepassImages, EachMeanIsThePartitionsBAndPixelsWithoutACandidateAreZero) {
+    RenderScene scene = loadScene("cornell-glass");
+    GuideRun run(scene, 32, 24, 8);
+    PrepassRun pre = prepassOf(run, 20000, 5, 7);
+    ASSERT_GE(pre.partitions.size(), 4u);
+    std::vector<std::vector<float>> images =
+        partitionPrepassImages(pre.prepass, pre.partitions, 32, 24);
+    ASSERT_EQ(images.size(), pre.partitions.size());
+    for (size_t g = 0; g < pre.partitions.size(); ++g) {
+        const Partition& p = pre.partitions[g];
+        ASSERT_EQ(images[g].size(), size_t(32 * 24));
+        double sum = 0;
+        for (float v : images[g]) sum += v;
+        EXPECT_NEAR(sum / double(images[g].size()), p.b, 1e-5 * p.b) << p.label;
+        std::set<uint32_t> hit;
+        for (const BootstrapCandidate& c : pre.prepass.candidatesB)
+            if (p.holds(c.type)) hit.insert(c.pixel);
+        for (uint32_t i = 0; i < images[g].size(); ++i) {
+            if (hit.count(i))
+                EXPECT_GT(images[g][i], 0.0f) << p.label << " " << i;
+            else
+                EXPECT_EQ(images[g][i], 0.0f) << p.label << " " << i;
+        }
+    }
+}
+
+TEST(PrepassImages, ARecordsPixelIsWhereItsRegeneratedPathLands) {
+    RenderScene scene = loadScene("cornell-glass");
+    GuideRun run(scene, 32, 24, 8);
+    // bdpt: light tracing (t = 1) records too, with their splat's raster.
+    BootstrapSampler sampler(scene, run.camera, 8, 3, StartupEstimator::Bidirectional);
+    std::vector<BootstrapCandidate> candidates;
+    uint64_t rays = 0;
+    for (uint64_t i = 0; i < 300; ++i) sampler.sample(i, candidates, rays);
+    int lightTraced = 0, cameraSide = 0;
+    for (const BootstrapCandidate& c : candidates) {
+        MarkovPath path;
+        if (!sampler.regenerate(c, path, rays)) continue;
+        int x = std::clamp(int(std::floor(path.raster.x)), 0, 31);
+        int y = std::clamp(int(std::floor(path.raster.y)), 0, 23);
+        EXPECT_EQ(c.pixel, uint32_t(y * 32 + x)) << c.sample << " s " << c.s << " t " << c.t;
+        (c.t == 1 ? lightTraced : cameraSide)++;
+    }
+    EXPECT_GT(lightTraced, 10);
+    EXPECT_GT(cameraSide, 100);
 }
 
 }  // namespace
