@@ -9,6 +9,7 @@
 
 #include "integrators/mlt/mlt_settings.h"
 #include "integrators/partitioned/partitioned_settings.h"
+#include "mcmc/bootstrap.h"
 
 namespace partita::server {
 
@@ -47,9 +48,11 @@ double bdptExtraBytes(const RenderSettings& s, double pixels) {
 }
 
 /// mlt's own extra memory, with the defaults of MltSettings (integrators/mlt/mlt_settings.h):
-/// - the bootstrap's candidates, 16 B each (mcmc/bootstrap.h), measured 12-14 a sample on the
-///   shipped scenes (0.7 on door-ajar): the blocks' lists and the merged list are alive together
-///   at the end of the bootstrap, and the merged list lives on through the render;
+/// - the bootstrap's candidates, 40 B each (BootstrapCandidate, mcmc/bootstrap.h), measured
+///   12-14 a sample on the shipped scenes (0.7 on door-ajar): the blocks' lists and the merged
+///   list are alive together at the end of the bootstrap, and the merged list lives on through
+///   the render. Counted as one list of 14 records a sample (the measured peaks of
+///   server/README.md "Memory", taken with 32-byte records, stay under that);
 /// - each chain's splats of one round (2 per mutation, 40 B: raster, type, value), and its
 ///   state: two paths of up to max depth + 2 vertices and the mutations' scratch, ~16 KiB;
 /// - the film's type blocks: chains splat every type anywhere, so tiles gather types as the
@@ -81,10 +84,10 @@ double anyTypeBlocks(const RenderSettings& s, double pixels) {
 
 MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
     const MltSettings defaults;
-    constexpr double kCandidatesPerSample = 14, kCandidateBytes = 16;
+    constexpr double kCandidatesPerSample = 14, kCandidateBytes = sizeof(BootstrapCandidate);
     uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.bootstrapSamples;
     MltExtra e;
-    e.bootstrap = 2 * double(samples) * kCandidatesPerSample * kCandidateBytes;
+    e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
     e.types = anyTypeBlocks(s, pixels);
     return e;
@@ -92,14 +95,14 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
 
 /// partitioned's own extra memory, with the defaults of PartitionedSettings
 /// (integrators/partitioned/partitioned_settings.h), besides its K + 1 films:
-/// - the pre-pass's half-B records, 32 B each (partition/prepass.h), ~13 a sample as measured
+/// - the pre-pass's half-B records, 40 B each (partition/prepass.h), ~13 a sample as measured
 ///   for mlt's bootstrap, for half the samples, at most the pre-pass's memory budget;
 /// - the chains' splats and states as for mlt (the same number of chains over all partitions);
 /// - the complement's film gathers every other type as mlt's film does; a partition's film
 ///   holds one type mostly, which the film allowance covers.
 MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
     const PartitionedSettings defaults;
-    constexpr double kRecordsPerSample = 13, kRecordBytes = 32;
+    constexpr double kRecordsPerSample = 13, kRecordBytes = sizeof(BootstrapCandidate);
     uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.prepassSamples;
     MltExtra e;
     e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,

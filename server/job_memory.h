@@ -8,7 +8,7 @@
 //   partitioned one per partition (K + 1, the complement's type blocks growing with the budget
 //   like mlt's), bdpt three; bdpt's and mlt's type blocks grow with the budget (counted
 //   apart), and mlt adds its bootstrap's candidates and its chains' splats and states,
-//   partitioned its pre-pass's half-B records (32 B, ~13 a sample, half the samples) and the
+//   partitioned its pre-pass's half-B records (40 B, ~13 a sample, half the samples) and the
 //   same chains;
 // - every resolved layer (combined, up to max_type_layers types, "other") is a dense float RGB
 //   image, 12 B/pixel, alive in up to three copies at the peak: the latest preview frame the job

@@ -1,6 +1,7 @@
 #include "mcmc/bootstrap.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "camera.h"
 #include "mcmc/path_edits.h"
@@ -8,6 +9,8 @@
 #include "render_scene.h"
 
 namespace partita {
+
+static_assert(sizeof(BootstrapCandidate) == 40, "the record size the comments and estimates use");
 
 namespace {
 constexpr uint64_t kBootstrapStream = 0x424f4f54ull << 32;  // "BOOT": apart from pixel streams
@@ -44,7 +47,7 @@ void BootstrapSampler::forEachStrategy(uint64_t index, uint64_t& rays, bool keep
             if (s > lightCount && !(s == 1 && t > 1)) continue;
             StrategySample c = connector.connect(cameraPath, lightPath, s, t, rng, rays);
             if (!c.valid || !(c.weight > 0)) continue;
-            if (!visit(s, t, c, connector)) return;
+            if (!visit(s, t, c, connector, raster)) return;
         }
 }
 
@@ -54,14 +57,22 @@ double BootstrapSampler::sample(uint64_t index, std::vector<BootstrapCandidate>&
     // directionPdf times this scale (path_edits.h), light tracing (t = 1) does not use them.
     float cameraScale = cameraSupportScale(camera_);
     double sum = 0;
-    forEachStrategy(index, rays, false, [&](int s, int t, const StrategySample& c, Connector&) {
-        float weight = c.weight * luminance(c.value) / (t >= 2 ? cameraScale : 1.0f);
-        if (weight > 0 && std::isfinite(weight)) {
-            out.push_back({index, uint16_t(s), uint16_t(t), weight, c.type});
-            sum += weight;
-        }
-        return true;
-    });
+    int width = camera_.width(), height = camera_.height();
+    auto pixelOf = [&](Vec2f r) {
+        int x = clamp(int(std::floor(r.x)), 0, width - 1);
+        int y = clamp(int(std::floor(r.y)), 0, height - 1);
+        return uint32_t(y) * uint32_t(width) + uint32_t(x);
+    };
+    forEachStrategy(
+        index, rays, false, [&](int s, int t, const StrategySample& c, Connector&, Vec2f raster) {
+            float weight = c.weight * luminance(c.value) / (t >= 2 ? cameraScale : 1.0f);
+            if (weight > 0 && std::isfinite(weight)) {
+                out.push_back({index, uint16_t(s), uint16_t(t), weight, c.type,
+                               pixelOf(t >= 2 ? raster : c.raster)});
+                sum += weight;
+            }
+            return true;
+        });
     return sum;
 }
 
@@ -69,7 +80,7 @@ bool BootstrapSampler::regenerate(const BootstrapCandidate& candidate, MarkovPat
                                   uint64_t& rays) const {
     bool found = false;
     forEachStrategy(candidate.sample, rays, true,
-                    [&](int s, int t, const StrategySample&, Connector& connector) {
+                    [&](int s, int t, const StrategySample&, Connector& connector, Vec2f) {
                         if (s != candidate.s || t != candidate.t) return true;
                         out.vertices = connector.lastPath();
                         found = true;

@@ -6,8 +6,8 @@
 // camera ray goes through a raster position uniform over the camera's importance support
 // (path_edits.h): the support of f, so that b is the integral over all of it. A candidate is one
 // strategy's path with its weight w f*(x) / p(x); b is the sum of the weights over N. A candidate
-// is stored as (sample index, s, t) and its path regenerated on demand: a sample's random stream
-// depends only on its index.
+// is stored as (sample index, s, t, the pixel it lands in) and its path regenerated on demand: a
+// sample's random stream depends only on its index.
 //
 // Start-up bias: a chain started from a resampled candidate is distributed as f* / b only as N
 // grows (the bias is O(1 / N)); Veach's estimate is then unbiased up to that term. No burn-in is
@@ -26,11 +26,17 @@ namespace partita {
 class Camera;
 class RenderScene;
 
+/// 40 bytes.
 struct BootstrapCandidate {
     uint64_t sample = 0;
     uint16_t s = 0, t = 0;
     float weight = 0;  // w f*(x) / p(x)
     PathType type;
+    /// The pixel the path lands in, y * width + x (row 0 at the top): the camera ray's raster
+    /// position for t >= 2, the light-tracing splat's (StrategySample::raster) for t == 1,
+    /// clamped to the image (the support reaches half a pixel beyond it). For per-partition
+    /// pre-pass images (partition/partition_images.h).
+    uint32_t pixel = 0;
 };
 
 /// The strategies a start-up sample uses: all of BDPT's, or those of a path tracer with
@@ -51,6 +57,8 @@ class BootstrapSampler {
   private:
     /// Runs sample `index`'s strategies in order; visit(s, t, sample, connector) for each valid
     /// one, stopping when visit returns false.
+    /// Runs sample `index`'s strategies in order; visit(s, t, sample, connector, raster) for
+    /// each valid one (raster: the camera ray's), stopping when visit returns false.
     template <typename Visit>
     void forEachStrategy(uint64_t index, uint64_t& rays, bool keepPaths, Visit&& visit) const;
 

@@ -3,8 +3,9 @@
 // its MIS-weighted contribution C = w f* / p, split into two halves by sample index:
 // - half A (even indices) only sums C per type: gamma(i), the ranking of the types;
 // - half B (odd indices) sums C per type (for b_i) and keeps its paths as compact records
-//   (sample index, strategy, weight, type: 32 bytes, regenerated on demand), the candidates of
-//   the chains' initial states, up to a memory budget.
+//   (sample index, strategy, weight, type, pixel: 40 bytes, regenerated on demand), the
+//   candidates of the chains' initial states and the per-partition pre-pass images
+//   (partition_images.h), up to a memory budget.
 // Keeping the halves apart makes the choice of partitions independent of the estimates of b_i
 // and of the initial states.
 //

@@ -48,8 +48,8 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "64"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12: pt is estimated at ~8 MiB, mlt at ~76 MiB, for whatever size: its bootstrap's
-    // candidates (100000 samples of ~14 candidates of 16 B, twice: ~43 MiB) and its 256 chains'
+    // 16x12: pt is estimated at ~8 MiB, mlt at ~87 MiB, for whatever size: its bootstrap's
+    // candidates (100000 samples of ~14 candidates of 40 B: ~53 MiB) and its 256 chains'
     // splats of a round (2 x 1024 x 40 B each: 20 MiB) and states (4 MiB).
     Submitted pt = submit(*stub, sceneSpec("cornell", 16, 12, 1));
     ASSERT_TRUE(pt.status.ok()) << pt.status.error_message();
@@ -60,7 +60,7 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     const std::string& why = refused.status.error_message();
     EXPECT_NE(why.find("1 film"), std::string::npos) << "mlt splats into one film\n" << why;
-    EXPECT_NE(why.find("mlt bootstrap 42.7 MiB"), std::string::npos) << why;
+    EXPECT_NE(why.find("mlt bootstrap 53.4 MiB"), std::string::npos) << why;
     EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
     EXPECT_EQ(waitForEnd(*stub, pt.id, 60s).state(), pb::JOB_STATE_DONE);
 
@@ -86,8 +86,8 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "48"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12, K = 10: ~53 MiB by the estimate: 11 films (K and the complement), the pre-pass's
-    // half-B records (50000 samples of ~13 records of 32 B: 19.8 MiB) and the 256 chains'
+    // 16x12, K = 10: ~58 MiB by the estimate: 11 films (K and the complement), the pre-pass's
+    // half-B records (50000 samples of ~13 records of 40 B: 24.8 MiB) and the 256 chains'
     // splats and states as for mlt (24.5 MiB).
     pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
     spec.set_algorithm("partitioned");
@@ -98,11 +98,11 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     const std::string& why = refused.status.error_message();
     EXPECT_NE(why.find("11 films"), std::string::npos) << "one film per partition\n" << why;
     EXPECT_NE(why.find("11 partitions"), std::string::npos) << why;
-    EXPECT_NE(why.find("pre-pass records 19.8 MiB"), std::string::npos) << why;
+    EXPECT_NE(why.find("pre-pass records 24.8 MiB"), std::string::npos) << why;
     EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
     EXPECT_NE(why.find("complement types"), std::string::npos) << why;
 
-    // A smaller pre-pass (4000 samples: 812.5 KiB of records) fits, and runs.
+    // A smaller pre-pass (4000 samples: 1015.6 KiB of records) fits, and runs.
     spec.set_bootstrap_samples(4000);
     Submitted small = submit(*stub, spec);
     ASSERT_TRUE(small.status.ok()) << small.status.error_message();
