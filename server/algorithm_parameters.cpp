@@ -14,7 +14,7 @@ std::vector<std::string> algorithmParameters(const std::string& algorithm) {
         {"bdpt", {"spp"}},
         {"mlt", {"mpp", "bootstrap"}},
         {"partitioned", {"mpp", "k", "prepass", "bootstrap"}},
-        {"guided", {"mpp", "k", "y", "radius", "epsilon"}},
+        {"guided", {"mpp", "k", "y", "radius", "epsilon", "prepass", "bootstrap"}},
     };
     auto it = own.find(algorithm);
     if (it == own.end()) return {};

@@ -21,14 +21,26 @@ constexpr double kPartition = 12;                              // bytes per pixe
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
-/// Films an algorithm holds at once: one per render thread for guided; bdpt keeps a camera film
-/// and a light-tracing film and sums them into a third to resolve; mlt splats every chain into
-/// one film, round by round, in chain order; partitioned has one film per partition group (K
-/// and the complement).
-int filmCount(const std::string& algorithm, const RenderSettings& s, int renderThreads) {
-    if (algorithm == "guided") return std::max(1, renderThreads);
-    if (algorithm == "partitioned") return std::max(0, s.partitions) + 1;
+bool hasPartitions(const std::string& algorithm) {
+    return algorithm == "partitioned" || algorithm == "guided";
+}
+
+/// Films an algorithm holds at once: bdpt keeps a camera film and a light-tracing film and sums
+/// them into a third to resolve; mlt splats every chain into one film, round by round, in chain
+/// order; partitioned and guided have one film per partition group (K and the complement).
+int filmCount(const std::string& algorithm, const RenderSettings& s) {
+    if (hasPartitions(algorithm)) return std::max(0, s.partitions) + 1;
     return algorithm == "bdpt" ? 3 : 1;
+}
+
+/// guided's guides (core/guide/): what it keeps, the G-buffer (40 B a pixel) and one bit a
+/// pixel and partition, and what its denoiser holds for a moment besides (bench/README.md,
+/// "Guide buffers"): per partition its pre-pass image, its interleaved input and output and
+/// its denoised image (4 B each a pixel), and the tap guides (32 B a pixel).
+double guideBytes(int partitions, double pixels) {
+    double kept = pixels * (40 + double(partitions) / 8);
+    double denoising = pixels * (16 * double(partitions) + 32);
+    return kept + denoising;
 }
 
 /// bdpt's own extra memory. Its films hold far more distinct types per pixel than pt's (every
@@ -112,10 +124,6 @@ MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
     return e;
 }
 
-bool hasPartitions(const std::string& algorithm) {
-    return algorithm == "partitioned" || algorithm == "guided";
-}
-
 }  // namespace
 
 std::string humanBytes(double b) {
@@ -131,16 +139,15 @@ std::string humanBytes(double b) {
 }
 
 MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSettings& s,
-                                 uint64_t sceneBytes, int renderThreads) {
+                                 uint64_t sceneBytes,
+                                 int /*renderThreads: no algorithm keeps a film per thread*/) {
     const int tile = 16;
     double padded =
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
-    int films = filmCount(algorithm, s, renderThreads);
+    int films = filmCount(algorithm, s);
     int layers = std::max(0, s.maxTypeLayers) + 2;  // combined and "other" too
-    int partitions = algorithm == "partitioned" ? std::max(0, s.partitions) + 1
-                     : hasPartitions(algorithm) ? std::max(1, s.partitions)
-                                                : 0;
+    int partitions = hasPartitions(algorithm) ? std::max(0, s.partitions) + 1 : 0;
 
     double film = films * padded * (kFilmCombined + kFilmTypeAllowance);
     double images = layers * pixels * kLayerCopies;
@@ -149,10 +156,11 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double splats = algorithm == "bdpt" ? bdptExtraBytes(s, pixels) : 0;
     MltExtra mlt{0, 0, 0};
     if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
-    if (algorithm == "partitioned") mlt = partitionedExtraBytes(s, pixels);
+    if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s, pixels);
     double mltBytes = mlt.bootstrap + mlt.chains + mlt.types;
+    double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
     MemoryEstimate e;
-    e.bytes = uint64_t(film + images + parts + splats + mltBytes + scene + kBaseline);
+    e.bytes = uint64_t(film + images + parts + splats + mltBytes + guides + scene + kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s, %d layers %s", s.width, s.height, films,
                   films == 1 ? "" : "s", humanBytes(film).c_str(), layers,
@@ -162,10 +170,11 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         e.breakdown += ", " + std::to_string(partitions) + " partitions " + humanBytes(parts);
     if (splats > 0) e.breakdown += ", bdpt types and splats " + humanBytes(splats);
     if (mltBytes > 0)
-        e.breakdown += (algorithm == "partitioned" ? ", pre-pass records " : ", mlt bootstrap ") +
+        e.breakdown += (hasPartitions(algorithm) ? ", pre-pass records " : ", mlt bootstrap ") +
                        humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains) +
-                       (algorithm == "partitioned" ? ", complement types " : ", types ") +
+                       (hasPartitions(algorithm) ? ", complement types " : ", types ") +
                        humanBytes(mlt.types);
+    if (guides > 0) e.breakdown += ", guides " + humanBytes(guides);
     e.breakdown += ", scene " + humanBytes(scene);
     return e;
 }

@@ -2,6 +2,7 @@
 
 #include "algorithm.h"
 #include "integrators/bdpt/bdpt_integrator.h"
+#include "integrators/guided/guided_integrator.h"
 #include "integrators/mlt/mlt_integrator.h"
 #include "integrators/partitioned/partitioned_integrator.h"
 #include "integrators/pt/pt_integrator.h"
@@ -15,6 +16,7 @@ void registerBuiltinAlgorithms() {
         registerBdpt();
         registerMlt();
         registerPartitioned();
+        registerGuided();
     });
 }
 

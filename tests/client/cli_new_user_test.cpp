@@ -157,8 +157,8 @@ TEST(CliNewUser, SweepOverAParameterTheAlgorithmIgnoresIsRefused) {
     expectOneLineError(r, "ignores y");
     RunResult help = partita({"render", "--help"});
     EXPECT_NE(help.out.find("pt"), std::string::npos);
-    EXPECT_EQ(help.out.find("guided"), std::string::npos)
-        << "render --help lists only algorithms this build has\n"
+    EXPECT_NE(help.out.find("guided"), std::string::npos)
+        << "render --help lists every algorithm this build has\n"
         << help.out;
 }
 

@@ -53,7 +53,7 @@ TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
          },
          Code::INVALID_ARGUMENT, "refused"},
         {"unknown algorithm", [](pb::JobSpec& s) { s.set_algorithm("magic"); },
-         Code::INVALID_ARGUMENT, "unknown algorithm 'magic' (this server has: bdpt, mlt, "},
+         Code::INVALID_ARGUMENT, "unknown algorithm 'magic' (this server has: bdpt, guided, mlt, "},
         {"zero width", [](pb::JobSpec& s) { s.set_width(0); }, Code::INVALID_ARGUMENT,
          "resolution"},
         {"negative height", [](pb::JobSpec& s) { s.set_height(-4); }, Code::INVALID_ARGUMENT,

@@ -13,6 +13,10 @@
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
+#include "guide/gbuffer.h"
+#include "guide/guided_perturbation.h"
+#include "guide/image_guide.h"
+#include "guide/offsets.h"
 #include "independent_proposal.h"
 #include "mcmc/bidirectional_mutation.h"
 #include "mcmc/caustic_perturbation.h"
@@ -277,6 +281,86 @@ TEST(Mutations, MultiChainPerturbationConvergesToBdptPerType) {
                 s.scene, s.camera, PerturbationRange{0.1f, 1.6f}, PerturbationRange{1e-4f, 0.1f});
         },
         1000);
+}
+
+/// The guided image perturbation with guides of its own: the scene's G-buffer and a V' that
+/// is 1 on a checkerboard of 2 x 2 pixel cells and epsilon = 0.05 elsewhere, so that S' varies
+/// twentyfold between neighbours and a wrong ratio would show. `forgetSums` drops Eq. 16's
+/// ratio of candidate sums (the negative control).
+class GuidedWithOwnGuides : public Mutation {
+  public:
+    GuidedWithOwnGuides(const SceneUnderTest& s, int candidates, float radius, bool forgetSums)
+        : gbuffer_(gbufferOf(s)),
+          masks_({checkerboard()}, kWidth, kHeight, 0.05f),
+          guide_(gbuffer_, masks_, 0),
+          delta_(guideOffsets(candidates, radius)),
+          guided_(s.scene, s.camera, guide_, delta_, PerturbationRange{0.1f, 1.6f}),
+          forgetSums_(forgetSums) {}
+    std::string name() const override { return "guided"; }
+    bool appliesTo(const MarkovPath& x) const override { return guided_.appliesTo(x); }
+    bool propose(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
+                 uint64_t& rays) override {
+        bool ok = guided_.propose(x, rng, y, ratio, rays);
+        if (ok && forgetSums_) ratio *= guided_.lastSumRatio();
+        return ok;
+    }
+
+  private:
+    static GBuffer gbufferOf(const SceneUnderTest& s) {
+        RenderSettings st;
+        st.width = kWidth;
+        st.height = kHeight;
+        st.maxDepth = kMaxDepth;
+        ThreadPool pool(1);
+        std::atomic<bool> cancel{false};
+        RenderObserver observer;
+        RenderContext ctx{s.scene, s.camera, st, pool, cancel, observer};
+        return buildGBuffer(ctx);
+    }
+    static std::vector<float> checkerboard() {
+        std::vector<float> d(size_t(kWidth * kHeight), 0.0f);
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                d[size_t(y * kWidth + x)] = ((x / 2 + y / 2) % 2) ? 1.0f : 0.0f;
+        return d;
+    }
+    GBuffer gbuffer_;
+    SupportMasks masks_;
+    ImageGuide guide_;
+    std::vector<PixelOffset> delta_;
+    GuidedPerturbation guided_;
+    bool forgetSums_;
+};
+
+TEST(Mutations, GuidedPerturbationConvergesToBdptPerType) {
+    expectConvergesToBdpt(
+        "cornell-glass",
+        [](const SceneUnderTest& s) {
+            return std::make_unique<GuidedWithOwnGuides>(s, 33, 5, false);
+        },
+        10000);
+}
+
+TEST(Mutations, GuidedPerturbationConvergesOnAGrazingFloor) {
+    Comparison c = compareWithBdpt(
+        grazingFloorScene(),
+        [](const SceneUnderTest& s) {
+            return std::make_unique<GuidedWithOwnGuides>(s, 128, 10, false);
+        },
+        10000);
+    EXPECT_LT(c.worst, 1.0) << c.where;
+}
+
+/// The comparison catches a guided perturbation without Eq. 16's candidate sums.
+TEST(Mutations, GuidedPerturbationWithoutTheCandidateSumsShowsAsBias) {
+    Comparison c = compareWithBdpt(
+        grazingFloorScene(),
+        [](const SceneUnderTest& s) {
+            return std::make_unique<GuidedWithOwnGuides>(s, 33, 5, true);
+        },
+        10000);
+    EXPECT_GT(c.worst, 1.0) << "a guided perturbation without its candidate sums went unnoticed: "
+                            << c.where;
 }
 
 }  // namespace

@@ -1,0 +1,101 @@
+#include "integrators/guided/guided_integrator.h"
+
+#include <chrono>
+#include <memory>
+
+#include "guide/denoise.h"
+#include "guide/gbuffer.h"
+#include "guide/guided_perturbation.h"
+#include "guide/image_guide.h"
+#include "guide/offsets.h"
+#include "partition/partition_images.h"
+#include "progress_reporter.h"
+#include "thread_pool.h"
+
+namespace partita {
+
+namespace {
+
+/// What the guided perturbations of every chain read: built once after the pre-pass, alive as
+/// long as the chains' mutation factory.
+struct Guides {
+    GBuffer gbuffer;
+    SupportMasks masks;  // per partition, D_i > epsilon (relative to its mean)
+    std::vector<ImageGuide> perPartition;
+    std::vector<PixelOffset> delta;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResult& prepass,
+                                    const std::vector<Partition>& partitions,
+                                    const DenoiseSettings& denoise, RenderStats& stats) {
+    const RenderSettings& rs = ctx.settings;
+    auto start = std::chrono::steady_clock::now();
+    ProgressReporter progress(ctx.observer, "prepass", "guide steps", 3);
+    auto guides = std::make_shared<Guides>();
+    guides->gbuffer = buildGBuffer(ctx);
+    progress.advance(1);
+    double gbufferSeconds = secondsSince(start);
+    std::vector<std::vector<float>> images =
+        partitionPrepassImages(prepass, partitions, rs.width, rs.height);
+    ctx.throwIfCancelled();
+    std::vector<std::vector<float>> denoised =
+        denoisePartitions(guides->gbuffer, images, denoise, &ctx.pool);
+    progress.advance(1);
+    double denoiseSeconds = secondsSince(start) - gbufferSeconds;
+    for (std::vector<float>& d : denoised) d = relativeToMean(d);
+    guides->masks = SupportMasks(denoised, rs.width, rs.height, rs.guideEpsilon);
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        guides->perPartition.emplace_back(guides->gbuffer, guides->masks, g);
+        stats.values["partition_" + std::to_string(g) + "_guide_support"] =
+            guides->perPartition.back().supportFraction();
+    }
+    size_t guideBytes = guides->gbuffer.bytes() + guides->masks.bytes();
+    guides->delta = guideOffsets(rs.guideCandidates, rs.guideRadius);
+    progress.advance(1);
+    progress.flush();
+    stats.values["guide_candidates"] = double(rs.guideCandidates);
+    stats.values["guide_radius"] = double(rs.guideRadius);
+    stats.values["guide_epsilon"] = double(rs.guideEpsilon);
+    stats.values["gbuffer_seconds"] = gbufferSeconds;
+    stats.values["denoise_seconds"] = denoiseSeconds;
+    stats.values["guide_seconds"] = secondsSince(start);
+    stats.values["guide_bytes"] = double(guideBytes);
+    return guides;
+}
+
+}  // namespace
+
+RenderResult GuidedAlgorithm::render(const RenderContext& ctx) {
+    auto hook = [&](const PrepassResult& prepass, const std::vector<Partition>& partitions,
+                    RenderStats& stats) -> ChainRunner::MutationFactory {
+        std::shared_ptr<Guides> guides =
+            buildGuides(ctx, prepass, partitions, settings_.denoise, stats);
+        return [&, guides, partitions](uint32_t group) {
+            VeachMutationSettings m = settings_.mutations;
+            if (!partitions[group].complement) m.bidirectional.additionWeights = {1.0, 0.0};
+            auto guided = std::make_unique<GuidedPerturbation>(
+                ctx.scene, ctx.camera, guides->perPartition[group], guides->delta,
+                lensPixelRange(ctx.camera, m));
+            return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m,
+                                      std::move(guided));
+        };
+    };
+    return renderPartitioned(ctx, settings_, "guided", hook);
+}
+
+void registerGuided() {
+    AlgorithmRegistry::instance().add(
+        {"guided",
+         "guided image sampling (paper Sec. 5): the partitioned chains with the lens "
+         "perturbation replaced by a move on the image plane drawn from |Y'| candidate pixels "
+         "within R in proportion to a G-buffer estimate S' and a denoised pre-pass visibility "
+         "V'; one layer per partition",
+         BudgetKind::MutationsPerPixel, [] { return std::make_unique<GuidedAlgorithm>(); },
+         /*orthographicCamera=*/false});
+}
+
+}  // namespace partita

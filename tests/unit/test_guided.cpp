@@ -1,0 +1,60 @@
+// `guided` (paper Sec. 5 on Sec. 4's partitions): each partition's image and the combined image
+// converge to the BDPT reference on cornell-glass, door-ajar and pool (the same check as
+// `partitioned`'s, partitioned_helpers.h, tolerances from the spread over independent seeds);
+// the guided perturbation does the lens perturbation's work (it is proposed and accepted); the
+// guides are reported; bad guide parameters are clear errors. The same image for 1 and 2
+// threads is EveryAlgorithm's (test_every_algorithm.cpp), which covers every registered
+// algorithm.
+#include <gtest/gtest.h>
+
+#include "partitioned_helpers.h"
+#include "render_helpers.h"
+#include "renderer.h"
+
+namespace partita {
+namespace {
+
+using namespace partitioned_test;
+
+TEST(Guided, PartitionsConvergeOnCornellGlass) {
+    expectPartitionsConverge("guided", "cornell-glass", 64, 64, 10);
+}
+
+TEST(Guided, PartitionsConvergeOnDoorAjar) {
+    expectPartitionsConverge("guided", "door-ajar", 64, 64, 10);
+}
+
+TEST(Guided, PartitionsConvergeOnPool) { expectPartitionsConverge("guided", "pool", 64, 64, 10); }
+
+TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {
+    RenderScene scene = loadScene("cornell-glass");
+    RenderSettings st = tinySettings(32, 3, BudgetKind::MutationsPerPixel);
+    st.guideCandidates = 33;
+    st.guideRadius = 4;
+    RenderResult r = test::renderWith(scene, "guided", st);
+    EXPECT_GT(r.stats.values["proposed_guided"], 1000);
+    EXPECT_GT(r.stats.values["acceptance_guided"], 0.05);
+    EXPECT_EQ(r.stats.values.count("proposed_lens"), 0u);
+    EXPECT_EQ(r.stats.values["guide_candidates"], 33);
+    EXPECT_EQ(r.stats.values["guide_radius"], 4);
+    EXPECT_GT(r.stats.values["guide_bytes"], 0);
+    // Every partition's V' holds some pixels, not all (the complement's may hold everything).
+    double partitions = r.stats.values["partitions"];
+    ASSERT_GE(partitions, 2);
+    for (int g = 0; g + 1 < int(partitions); ++g) {
+        double support = r.stats.values["partition_" + std::to_string(g) + "_guide_support"];
+        EXPECT_GT(support, 0) << g;
+    }
+}
+
+TEST(Guided, BadGuideParametersAreClearErrors) {
+    RenderSettings st = tinySettings(4, 1, BudgetKind::MutationsPerPixel);
+    st.guideCandidates = 0;
+    EXPECT_NE(validateSettings(st), "");
+    st.guideCandidates = 128;
+    st.guideRadius = -1;
+    EXPECT_NE(validateSettings(st), "");
+}
+
+}  // namespace
+}  // namespace partita
