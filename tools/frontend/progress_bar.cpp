@@ -11,16 +11,16 @@
 
 namespace partita {
 
-ProgressBar::ProgressBar(bool interactive) : interactive_(interactive) {}
+ProgressBar::ProgressBar(bool interactive, std::FILE* out) : interactive_(interactive), out_(out) {}
 
 bool ProgressBar::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 
-/// The width of the terminal on stderr; 80 when it cannot be told.
-size_t terminalColumns() {
+/// The width of the terminal on `fd`; 80 when it cannot be told.
+size_t terminalColumns(int fd) {
     winsize w{};
-    if (ioctl(STDERR_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 20) return w.ws_col;
+    if (ioctl(fd, TIOCGWINSZ, &w) == 0 && w.ws_col >= 20) return w.ws_col;
     return 80;
 }
 
@@ -104,7 +104,7 @@ void ProgressBar::update(const RenderProgress& p) {
         // One terminal line, never wrapped (a wrapped line cannot be redrawn in place), padded
         // to the width so that nothing of a longer line before it remains.
         std::string text = line;
-        size_t columns = terminalColumns() - 1;
+        size_t columns = terminalColumns(fileno(out_)) - 1;
         text.resize(columns, ' ');
         // The partition table above the bar: back to its first line, clear below, redraw.
         std::string table = partitionTable(p), redraw;
@@ -118,8 +118,8 @@ void ProgressBar::update(const RenderProgress& p) {
             ++tableLines_;
             start = end + 1;
         }
-        std::fprintf(stderr, "%s\r%s", redraw.c_str(), text.c_str());
-        std::fflush(stderr);
+        std::fprintf(out_, "%s\r%s", redraw.c_str(), text.c_str());
+        std::fflush(out_);
         drawn_ = true;
         return;
     }
@@ -131,16 +131,18 @@ void ProgressBar::update(const RenderProgress& p) {
     auto now = std::chrono::steady_clock::now();
     if (now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
-    std::fputs(pendingPlain_.c_str(), stderr);
+    std::fputs(pendingPlain_.c_str(), out_);
+    std::fflush(out_);
     pendingPlain_.clear();
 }
 
 void ProgressBar::finish() {
     std::lock_guard lock(mutex_);
-    if (interactive_ && drawn_) std::fprintf(stderr, "\n");
+    if (interactive_ && drawn_) std::fputs("\n", out_);
     drawn_ = false;
     tableLines_ = 0;
-    if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), stderr);
+    if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), out_);
+    std::fflush(out_);
     pendingPlain_.clear();
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdio>
 #include <mutex>
 #include <string>
 
@@ -17,7 +18,8 @@ struct RenderProgress;
 
 class ProgressBar {
   public:
-    explicit ProgressBar(bool interactive);
+    /// Draws on `out` (stderr unless a test says otherwise); `interactive`: `out` is a terminal.
+    explicit ProgressBar(bool interactive, std::FILE* out = stderr);
     static bool stderrIsTerminal();
 
     void update(const RenderProgress& p);
@@ -26,6 +28,7 @@ class ProgressBar {
 
   private:
     bool interactive_;
+    std::FILE* out_;
     bool drawn_ = false;
     std::mutex mutex_;
     std::chrono::steady_clock::time_point lastPlain_{};
