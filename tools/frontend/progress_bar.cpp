@@ -106,9 +106,15 @@ void ProgressBar::update(const RenderProgress& p) {
         std::string text = line;
         size_t columns = terminalColumns(fileno(out_)) - 1;
         text.resize(columns, ' ');
-        // The partition table above the bar: back to its first line, clear below, redraw.
+        // The partition table above the bar: back to the first line of the one drawn before, or
+        // to the start of the bar's line when there was none (the first report of a phase comes
+        // before its partitions), clear it and all below, and draw the table and the bar again.
         std::string table = partitionTable(p), redraw;
-        if (tableLines_ > 0) redraw = "\r\x1b[" + std::to_string(tableLines_) + "A\x1b[J";
+        if (drawn_ && (tableLines_ > 0 || !table.empty())) {
+            redraw = "\r";
+            if (tableLines_ > 0) redraw += "\x1b[" + std::to_string(tableLines_) + "A";
+            redraw += "\x1b[J";
+        }
         tableLines_ = 0;
         for (size_t start = 0; start < table.size();) {
             size_t end = table.find('\n', start);

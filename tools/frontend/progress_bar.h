@@ -5,6 +5,7 @@
 // per mutation type follows the ETA. A report with partitions (partitioned's "render") comes with
 // a compact table of them (type, P(i), b_i, running acceptance): on a terminal redrawn in place
 // above the bar, otherwise printed with each plain line (at most every 5 s, and at the end).
+// On a terminal the final table and bar stay on the screen.
 #pragma once
 
 #include <chrono>
