@@ -189,6 +189,40 @@ TEST(ProgressBarTerminal, TheTableGrowsAndShrinksInPlace) {
     EXPECT_EQ(lines, expected) << show(lines);
 }
 
+TEST(ProgressBarTerminal, ANarrowTerminalCutsTheRowsInsteadOfWrappingThem) {
+    // Under 20 columns too: a wrapped row would put the move up short of the table's first line.
+    for (int columns : {16, 30}) {
+        const std::string raw = drawOnTerminal(columns, 24, [](ProgressBar& bar, std::FILE* out) {
+            say(out, "above");
+            bar.update(report(0));
+            bar.update(report(4));
+            bar.update(report(3));
+            bar.update(report(3, 100));
+            bar.finish();
+            say(out, "below");
+        });
+        EXPECT_EQ(movesUp(raw), (std::vector<int>{5, 4})) << columns;
+        Terminal terminal(columns, 24);
+        terminal.feed(raw);
+        EXPECT_EQ(terminal.wrappedRows(), 0) << columns;
+        const auto lines = terminal.lines();
+        auto cut = [&](std::string line) {
+            line.resize(std::min(line.size(), size_t(columns - 1)));
+            line.erase(line.find_last_not_of(' ') + 1);
+            return line;
+        };
+        const std::vector<std::string> expected = {
+            "above",
+            cut("  partition     P(i)        b_i    acc"),
+            cut("  LDE          0.333  1.000e-02   0.25"),
+            cut("  LDSE         0.333  2.000e-02   0.25"),
+            cut("  complement   0.333  3.000e-02   0.25"),
+            cut("render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50"),
+            "below"};
+        EXPECT_EQ(lines, expected) << columns << "\n" << show(lines);
+    }
+}
+
 TEST(CliTerminal, PartitionedRenderRedrawsItsTableInPlace) {
     Daemon daemon;
     TempDir dir;

@@ -17,10 +17,11 @@ bool ProgressBar::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 
-/// The width of the terminal on `fd`; 80 when it cannot be told.
+/// The width of the terminal on `fd`, however narrow (anything wider would wrap, and a wrapped
+/// line cannot be redrawn in place); 80 when it cannot be told.
 size_t terminalColumns(int fd) {
     winsize w{};
-    if (ioctl(fd, TIOCGWINSZ, &w) == 0 && w.ws_col >= 20) return w.ws_col;
+    if (ioctl(fd, TIOCGWINSZ, &w) == 0 && w.ws_col > 0) return w.ws_col;
     return 80;
 }
 
