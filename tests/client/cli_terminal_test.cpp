@@ -84,10 +84,11 @@ RenderProgress report(size_t n, double done = 50) {
     p.ratePerSecond = 1234;
     p.etaSeconds = 1;
     p.values["acceptance_lens"] = 0.5;
-    static const char* kTypes[] = {"LDE", "LDSE", "LSDE", "LDDE", "LSSE", "LDSDE", "LE", "LSE"};
+    static const char* kTypes[] = {"LDE",   "LDSE", "LSDE", "LDDE",  "LSSE",
+                                   "LDSDE", "LE",   "LSE",  "LDSSE", "LSDSE"};
     for (size_t i = 0; i < n; ++i) {
         PartitionProgress part;
-        part.type = i + 1 == n ? "complement" : kTypes[i % 8];
+        part.type = i + 1 == n ? "complement" : kTypes[i % 10];
         part.p = 1.0 / double(n);
         part.b = 0.01 * double(i + 1);
         part.acceptance = 0.25;
@@ -221,6 +222,54 @@ TEST(ProgressBarTerminal, ANarrowTerminalCutsTheRowsInsteadOfWrappingThem) {
             "below"};
         EXPECT_EQ(lines, expected) << columns << "\n" << show(lines);
     }
+}
+
+TEST(ProgressBarTerminal, AShortTerminalShowsTheTableThatFitsAboveTheBar) {
+    // 6 rows: 5 lines of table above the bar. A taller table would be drawn lower each time (the
+    // move up stops at the top of the screen), leaving its first lines in the history.
+    const std::string raw = drawOnTerminal(80, 6, [](ProgressBar& bar, std::FILE* out) {
+        say(out, "above");
+        bar.update(report(0));
+        bar.update(report(10));
+        bar.update(report(10));
+        bar.update(report(3));
+        bar.update(report(10, 100));
+        bar.finish();
+        say(out, "below");
+    });
+    EXPECT_EQ(movesUp(raw), (std::vector<int>{5, 5, 4}));
+    Terminal terminal(80, 6);
+    terminal.feed(raw);
+    const auto lines = terminal.lines();
+    const std::vector<std::string> expected = {
+        "above",
+        "  partition     P(i)        b_i    acc",
+        "  LDE          0.100  1.000e-02   0.25",
+        "  LDSE         0.100  2.000e-02   0.25",
+        "  ... 7 more",
+        "  complement   0.100  1.000e-01   0.25",
+        "render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50",
+        "below"};
+    EXPECT_EQ(lines, expected) << show(lines);
+
+    // Too short for a header, a row and the complement above the bar: the bar alone.
+    const std::string tiny = drawOnTerminal(80, 3, [](ProgressBar& bar, std::FILE* out) {
+        say(out, "above");
+        bar.update(report(0));
+        bar.update(report(3));
+        bar.update(report(3, 100));
+        bar.finish();
+        say(out, "below");
+    });
+    EXPECT_EQ(tiny.find('\x1b'), std::string::npos);
+    Terminal small(80, 3);
+    small.feed(tiny);
+    EXPECT_EQ(small.lines(),
+              (std::vector<std::string>{
+                  "above",
+                  "render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50",
+                  "below"}))
+        << show(small.lines());
 }
 
 TEST(CliTerminal, PartitionedRenderRedrawsItsTableInPlace) {

@@ -5,7 +5,10 @@
 // per mutation type follows the ETA. A report with partitions (partitioned's "render") comes with
 // a compact table of them (type, P(i), b_i, running acceptance): on a terminal redrawn in place
 // above the bar, otherwise printed with each plain line (at most every 5 s, and at the end).
-// On a terminal the final table and bar stay on the screen.
+// On a terminal nothing is ever wrapped (bar and rows are cut to its width), the table never
+// takes more lines than there are above the bar (the rows that do not fit are counted in a
+// "... N more" row before the last, the complement), so that moving back up to its first line
+// always works, and the final table and bar stay on the screen.
 #pragma once
 
 #include <chrono>
