@@ -4,9 +4,13 @@
 
 #include <sys/types.h>
 
+#include <atomic>
+#include <condition_variable>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace partita::test {
@@ -25,6 +29,40 @@ struct RunResult {
 RunResult runProgram(const std::vector<std::string>& args,
                      const std::map<std::string, std::string>& env = {},
                      double timeoutSeconds = 90);
+
+/// A pseudo-terminal of `columns` x `rows` (set with TIOCSWINSZ, as a terminal emulator does).
+/// What is written to its slave side comes out of its master, which a thread reads from the
+/// start (so that a writer never blocks on a full buffer) until every copy of the slave is
+/// closed. The slave keeps the terminal's usual settings (a "\n" comes out as "\r\n").
+class PseudoTerminal {
+  public:
+    PseudoTerminal(int columns, int rows);
+    ~PseudoTerminal();
+    PseudoTerminal(const PseudoTerminal&) = delete;
+    PseudoTerminal& operator=(const PseudoTerminal&) = delete;
+    /// The slave's descriptor (close-on-exec: dup2 it into a child, or dup it).
+    int slave() const { return slave_; }
+    /// Closes the slave here and returns all that came out of the master once every other copy
+    /// of the slave is closed too; what came so far after `timeoutSeconds`.
+    std::string finish(double timeoutSeconds = 60);
+
+  private:
+    void readMaster();
+    int master_ = -1, slave_ = -1;
+    std::mutex mutex_;
+    std::condition_variable endedChanged_;
+    bool ended_ = false;  // the reader is done: every copy of the slave is closed
+    std::atomic<bool> stop_{false};
+    std::string output_;
+    std::thread reader_;
+};
+
+/// Runs `args` like runProgram, but with its stderr on a pseudo-terminal of `columns` x `rows`
+/// (stdin /dev/null, stdout a file): RunResult::err is what the terminal received, escape
+/// sequences included.
+RunResult runInTerminal(const std::vector<std::string>& args, int columns, int rows,
+                        const std::map<std::string, std::string>& env = {},
+                        double timeoutSeconds = 90);
 
 /// A fresh folder under $TMPDIR or /tmp, removed by the destructor.
 class TempDir {

@@ -6,22 +6,61 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "algorithm.h"
 
 namespace partita {
 
-ProgressBar::ProgressBar(bool interactive) : interactive_(interactive) {}
+ProgressBar::ProgressBar(bool interactive, std::FILE* out) : interactive_(interactive), out_(out) {}
 
 bool ProgressBar::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
 
 namespace {
 
-/// The width of the terminal on stderr; 80 when it cannot be told.
-size_t terminalColumns() {
+struct TerminalSize {
+    size_t columns = 80, rows = 0;  // rows 0: unknown
+};
+
+/// The size of the terminal on `fd`: its width however narrow (anything wider would wrap, and a
+/// wrapped line cannot be redrawn in place), 80 columns when it cannot be told.
+TerminalSize terminalSize(int fd) {
+    TerminalSize size;
     winsize w{};
-    if (ioctl(STDERR_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col >= 20) return w.ws_col;
-    return 80;
+    if (ioctl(fd, TIOCGWINSZ, &w) == 0) {
+        if (w.ws_col > 0) size.columns = w.ws_col;
+        size.rows = w.ws_row;
+    }
+    return size;
+}
+
+/// The lines of a partition table as drawn above the bar: cut to `columns`, and when they do not
+/// all fit above the bar on a terminal of `rows` (0: unknown) the first ones, "  ... N more" and
+/// the last (the complement), or none when not even three fit. (Moving up past the top of the
+/// screen stops there: a taller table would be drawn again lower each time, its first lines
+/// scrolled into the history.)
+std::vector<std::string> tableLines(const std::string& table, size_t columns, size_t rows) {
+    std::vector<std::string> lines;
+    for (size_t start = 0; start < table.size();) {
+        size_t end = table.find('\n', start);
+        lines.push_back(table.substr(start, end - start));
+        start = end + 1;
+    }
+    if (rows > 0 && lines.size() > rows - 1) {
+        const size_t room = rows - 1;
+        if (room < 3) {
+            lines.clear();
+        } else {
+            const std::string last = lines.back();
+            const size_t hidden = lines.size() - room + 1;
+            lines.resize(room - 2);
+            lines.push_back("  ... " + std::to_string(hidden) + " more");
+            lines.push_back(last);
+        }
+    }
+    for (std::string& line : lines)
+        if (line.size() > columns) line.resize(columns);
+    return lines;
 }
 
 }  // namespace
@@ -104,22 +143,23 @@ void ProgressBar::update(const RenderProgress& p) {
         // One terminal line, never wrapped (a wrapped line cannot be redrawn in place), padded
         // to the width so that nothing of a longer line before it remains.
         std::string text = line;
-        size_t columns = terminalColumns() - 1;
+        const TerminalSize size = terminalSize(fileno(out_));
+        const size_t columns = size.columns - 1;
         text.resize(columns, ' ');
-        // The partition table above the bar: back to its first line, clear below, redraw.
-        std::string table = partitionTable(p), redraw;
-        if (tableLines_ > 0) redraw = "\r\x1b[" + std::to_string(tableLines_) + "A\x1b[J";
-        tableLines_ = 0;
-        for (size_t start = 0; start < table.size();) {
-            size_t end = table.find('\n', start);
-            std::string row = table.substr(start, end - start);
-            if (row.size() > columns) row.resize(columns);
-            redraw += "\r" + row + "\n";
-            ++tableLines_;
-            start = end + 1;
+        // The partition table above the bar: back to the first line of the one drawn before, or
+        // to the start of the bar's line when there was none (the first report of a phase comes
+        // before its partitions), clear it and all below, and draw the table and the bar again.
+        const std::vector<std::string> table = tableLines(partitionTable(p), columns, size.rows);
+        std::string redraw;
+        if (drawn_ && (tableLines_ > 0 || !table.empty())) {
+            redraw = "\r";
+            if (tableLines_ > 0) redraw += "\x1b[" + std::to_string(tableLines_) + "A";
+            redraw += "\x1b[J";
         }
-        std::fprintf(stderr, "%s\r%s", redraw.c_str(), text.c_str());
-        std::fflush(stderr);
+        for (const std::string& row : table) redraw += "\r" + row + "\n";
+        tableLines_ = int(table.size());
+        std::fprintf(out_, "%s\r%s", redraw.c_str(), text.c_str());
+        std::fflush(out_);
         drawn_ = true;
         return;
     }
@@ -131,16 +171,18 @@ void ProgressBar::update(const RenderProgress& p) {
     auto now = std::chrono::steady_clock::now();
     if (now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
-    std::fputs(pendingPlain_.c_str(), stderr);
+    std::fputs(pendingPlain_.c_str(), out_);
+    std::fflush(out_);
     pendingPlain_.clear();
 }
 
 void ProgressBar::finish() {
     std::lock_guard lock(mutex_);
-    if (interactive_ && drawn_) std::fprintf(stderr, "\n");
+    if (interactive_ && drawn_) std::fputs("\n", out_);
     drawn_ = false;
     tableLines_ = 0;
-    if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), stderr);
+    if (!interactive_ && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), out_);
+    std::fflush(out_);
     pendingPlain_.clear();
 }
 

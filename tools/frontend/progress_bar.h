@@ -5,9 +5,14 @@
 // per mutation type follows the ETA. A report with partitions (partitioned's "render") comes with
 // a compact table of them (type, P(i), b_i, running acceptance): on a terminal redrawn in place
 // above the bar, otherwise printed with each plain line (at most every 5 s, and at the end).
+// On a terminal nothing is ever wrapped (bar and rows are cut to its width), the table never
+// takes more lines than there are above the bar (the rows that do not fit are counted in a
+// "... N more" row before the last, the complement), so that moving back up to its first line
+// always works, and the final table and bar stay on the screen.
 #pragma once
 
 #include <chrono>
+#include <cstdio>
 #include <mutex>
 #include <string>
 
@@ -17,7 +22,8 @@ struct RenderProgress;
 
 class ProgressBar {
   public:
-    explicit ProgressBar(bool interactive);
+    /// Draws on `out` (stderr unless a test says otherwise); `interactive`: `out` is a terminal.
+    explicit ProgressBar(bool interactive, std::FILE* out = stderr);
     static bool stderrIsTerminal();
 
     void update(const RenderProgress& p);
@@ -26,6 +32,7 @@ class ProgressBar {
 
   private:
     bool interactive_;
+    std::FILE* out_;
     bool drawn_ = false;
     std::mutex mutex_;
     std::chrono::steady_clock::time_point lastPlain_{};
