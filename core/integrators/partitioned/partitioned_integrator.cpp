@@ -188,6 +188,13 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;
+    // Half B's path records, alive from the pre-pass to the end of the render (allocated: the
+    // vector's capacity).
+    st.values["prepass_records"] = double(prepass.candidatesB.size());
+    st.values["prepass_record_bytes"] =
+        double(prepass.candidatesB.size() * sizeof(BootstrapCandidate));
+    st.values["prepass_record_allocated_bytes"] =
+        double(prepass.candidatesB.capacity() * sizeof(BootstrapCandidate));
     st.values["burn_in"] = double(settings_.burnIn);
     addChainStats(st, runner, plan, secondsSince(start), prepassSeconds, prepass.rays, pixels);
     addPartitionStats(st, partitions, runner);
