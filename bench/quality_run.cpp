@@ -368,7 +368,10 @@ void printPartitionRows(const std::vector<AlgorithmRun>& runs,
                         p.c_str(), b.c_str(), acc.c_str(), meanStd(f.rmse).c_str(), refText,
                         f.share.mean);
         }
-        if (missing) std::printf("! a type the reference has no layer of (compared with black)\n");
+        if (missing)
+            std::printf(
+                "! a type the reference has no layer of (compared with black); the complement "
+                "when the reference may hold such a type in its 'other'\n");
     }
 }
 

@@ -65,6 +65,23 @@ TEST(PartitionError, ATypeTheReferenceLacksIsComparedWithBlack) {
     EXPECT_NEAR(e[0].share, 1.0, 1e-12);
 }
 
+TEST(PartitionError, TheComplementOfAReferenceThatMayHideATypeInOtherIsMarked) {
+    LayeredImage ref = reference();
+    ref.layers.back().name = "other";  // LDDE merged into "other": LSSDE could be there too
+    LayeredImage render;
+    render.layers = {{"LSSDE", filled(0.5f)}, {"complement", filled(7)}};
+    render.combined = filled(7.5f);
+    auto e = partitionErrors(render, {"LSSDE", "complement"}, ref);
+    EXPECT_FALSE(e[0].inReference);
+    EXPECT_FALSE(e[1].inReference);
+    render.layers = {{"LDE", filled(1)}, {"complement", filled(6)}};
+    render.combined = filled(7);
+    e = partitionErrors(render, {"LDE", "complement"}, ref);
+    EXPECT_TRUE(e[0].inReference);
+    EXPECT_TRUE(e[1].inReference);  // its types are all there: "other" is in the complement
+    EXPECT_NEAR(e[1].rmse, 0.0, 1e-12);
+}
+
 TEST(PartitionError, AMissingLayerOrAnotherSizeIsAnError) {
     LayeredImage render;
     render.combined = filled(7);

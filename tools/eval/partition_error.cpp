@@ -47,11 +47,19 @@ std::vector<PartitionError> partitionErrors(const LayeredImage& render,
     double combinedSquared = squaredError(render.combined, refCombined);
     double values = double(refCombined.rgb.size());
     // The complement's reference subtracts the reference layers of the partitions' own types.
+    // When the reference lacks one of them and has an "other", that type may be in its "other",
+    // and the complement's reference then holds it too: not a reference of the complement.
     std::vector<const Image*> typeReferences;
+    bool complete = true;
     for (const auto& name : partitions)
-        if (name != kComplementLabel)
-            if (const Image* r = reference.layer(name); r && name != Film::kOtherLayer)
+        if (name != kComplementLabel) {
+            const Image* r = name == Film::kOtherLayer ? nullptr : reference.layer(name);
+            if (r)
                 typeReferences.push_back(r);
+            else
+                complete = false;
+        }
+    bool complementInReference = complete || !reference.layer(Film::kOtherLayer);
     std::vector<PartitionError> out;
     for (const auto& name : partitions) {
         const Image* mine = render.layer(name);
@@ -61,7 +69,7 @@ std::vector<PartitionError> partitionErrors(const LayeredImage& render,
         e.layer = name;
         const Image* ref =
             name == kComplementLabel || name == Film::kOtherLayer ? nullptr : reference.layer(name);
-        e.inReference = name == kComplementLabel || ref != nullptr;
+        e.inReference = name == kComplementLabel ? complementInReference : ref != nullptr;
         double squared = 0, relative = 0;
         for (size_t i = 0; i < refCombined.rgb.size(); ++i) {
             double r = 0;

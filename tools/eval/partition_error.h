@@ -27,7 +27,8 @@ struct PartitionError {
     double squaredError = 0;      // sum over pixels and RGB values of (x - r)^2
     double share = 0;             // squaredError over the combined image's (0 when that is 0)
     /// False for a type the reference has no layer of: its reference is black then (or, when
-    /// the reference has an "other" layer, possibly inside it).
+    /// the reference has an "other" layer, possibly inside it); false for the complement when
+    /// one of the K types is missing from a reference with an "other" (which may hold it).
     bool inReference = true;
 };
 
