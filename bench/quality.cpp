@@ -141,6 +141,13 @@ void addMemoryEstimate(AlgorithmRun& run, const QualityOptions& o, const ThreadP
 #endif
 }
 
+/// The bytes of an image's pixels, in MiB.
+double imageMb(const LayeredImage& image) {
+    double bytes = double(image.combined.rgb.size()) * sizeof(float);
+    for (const auto& l : image.layers) bytes += double(l.image.rgb.size()) * sizeof(float);
+    return bytes / double(1 << 20);
+}
+
 /// The algorithms whose renders have one layer per partition.
 bool hasPartitionLayers(const std::string& algorithm) {
     return algorithm == "partitioned" || algorithm == "guided";
@@ -155,15 +162,22 @@ AlgorithmRun runAlgorithm(const RenderOptions& r, const QualityOptions& o, const
     run.settings = r.settings;
     run.peakPerAlgorithm = resetPeakRss();
     double before = currentRssMb();
+    // The kept images are resident while the later seeds render: the peak is measured per seed
+    // (reset before each) and what was kept before that seed is taken off it.
+    double keptMb = 0;
     for (int k = 0; k < o.seeds; ++k) {
+        if (k > 0 && run.peakPerAlgorithm) resetPeakRss();
         RenderSettings s = r.settings;
         s.seed = r.settings.seed + uint64_t(k);
         std::string label = r.algorithm + " seed " + std::to_string(s.seed);
         TimedRender t = renderTimed(scene, r.algorithm, s, pool, o.quiet, label);
         run.runs.push_back(measure(t, ref, s));
-        if (kept) kept->push_back(std::move(t.result.image));
+        run.peakRssMb = std::max(run.peakRssMb, peakRssMb() - keptMb);
+        if (kept) {
+            keptMb += imageMb(t.result.image);
+            kept->push_back(std::move(t.result.image));
+        }
     }
-    run.peakRssMb = peakRssMb();
     run.rssIncreaseMb = std::max(0.0, run.peakRssMb - before);
     addMemoryEstimate(run, o, pool);
     return run;
