@@ -11,8 +11,12 @@
 # truth lies between). Its JSON (OUT/<scene>-<size>.json) has the
 # pre-pass seconds, samples, types and half-B records (statistics prepass_*), the peak RSS and
 # its increase over the resident scene and reference, and the daemon's memory estimate of such a
-# job (server/job_memory.h). A scene that fails does not stop the others.
-#   bench/partitioned-prepass.sh   (SIZES="128x96 640x360 1280x720", PREPASS_MPP=1, SEEDS=1)
+# job (server/job_memory.h). With MLT=1 (the default) mlt renders the same in a process of its own
+# (OUT/<scene>-<size>-mlt.json), for what partitioned adds over it. The renders keep LAYERS type
+# layers (default 32, the film's default); a partition's film resolves that many too. A scene
+# that fails does not stop the others.
+#   bench/partitioned-prepass.sh   (SIZES="128x96 640x360 1280x720", PREPASS_MPP=1, SEEDS=1,
+#                                   LAYERS=32, MLT=1)
 set -eu
 cd "$(dirname "$0")/.."
 EVAL=${PARTITA_EVAL:-build-bench/bench/partita-eval}
@@ -30,7 +34,12 @@ for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom po
             --height "${size#*x}" --layers 1 --no-cache --quiet --out "$ref" >/dev/null &&
             $NICE "$EVAL" quality --scene "$gltf" --reference "$ref" --algorithms partitioned,partitioned \
                 --mpp "${PREPASS_MPP:-1}" --bootstrap "$BOOTSTRAP" --seeds "${SEEDS:-1}" --quiet \
-                --table-layers 0 --json "$OUT/$scene-$size.json" >"$OUT/$scene-$size.txt"; then
+                --layers "${LAYERS:-32}" --table-layers 0 --json "$OUT/$scene-$size.json" \
+                >"$OUT/$scene-$size.txt" &&
+            { [ "${MLT:-1}" != 1 ] || $NICE "$EVAL" quality --scene "$gltf" --reference "$ref" \
+                --algorithms mlt --mpp "${PREPASS_MPP:-1}" --bootstrap "$BOOTSTRAP" --seeds "${SEEDS:-1}" \
+                --quiet --layers "${LAYERS:-32}" --table-layers 0 --json "$OUT/$scene-$size-mlt.json" \
+                >"$OUT/$scene-$size-mlt.txt"; }; then
             cat "$OUT/$scene-$size.txt"
         else
             failed="$failed $scene:$size"

@@ -108,12 +108,14 @@ def study(folder):
 
 def prepass(folder):
     print("| scene | size | pre-pass | types | records (bytes) | pre-pass s (runs 1, 2) | "
-          "peak RSS MB (+increase run 1, run 2) | estimate MB (of which pre-pass records) |")
-    print("|---|---|---|---|---|---|---|---|")
+          "peak RSS MB (+increase run 1, run 2) | estimate MB (of which pre-pass records) | "
+          "mlt: bootstrap s, +increase MB, estimate MB |")
+    print("|---|---|---|---|---|---|---|---|---|")
     files = {os.path.basename(f)[:-5]: f for f in glob.glob(f"{folder}/*.json")}
     for scene in SCENES:
         sizes = sorted((k[len(scene) + 1:] for k in files
-                        if k.startswith(scene + "-") and k[len(scene) + 1:][0].isdigit()),
+                        if k.startswith(scene + "-") and k[len(scene) + 1:][0].isdigit()
+                        and not k.endswith("-mlt")),
                        key=lambda s: int(s.split("x")[0]))
         for size in sizes:
             j = load(files[f"{scene}-{size}"])
@@ -132,7 +134,16 @@ def prepass(folder):
                 f"{a['peak_rss_mb']:.0f} (+{a['rss_increase_mb']:.0f}"
                 + (f", +{b['rss_increase_mb']:.0f})" if b else ")"),
                 f"{g(a.get('job_memory_estimate_mb'), 4)} ({records})",
+                mlt_cell(load(f"{folder}/{scene}-{size}-mlt.json")),
             ]) + " |")
+
+
+def mlt_cell(j):
+    if not j:
+        return "-"
+    m = result(j, "mlt")
+    return (f"{m['per_seed'][0]['statistics']['bootstrap_seconds']:.2f} s, "
+            f"+{m['rss_increase_mb']:.0f}, {g(m.get('job_memory_estimate_mb'), 4)}")
 
 
 if __name__ == "__main__":
