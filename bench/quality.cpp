@@ -1,5 +1,6 @@
 #include "quality.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -8,10 +9,15 @@
 #include "eval/peak_rss.h"
 #include "eval/reference_key.h"
 #include "eval_render.h"
+#include "film.h"
 #include "image_io.h"
+#include "partition/partition.h"
 #include "quality_run.h"
 #include "render_scene.h"
 #include "thread_pool.h"
+#ifdef PARTITA_EVAL_SERVICE
+#include "job_memory.h"
+#endif
 
 namespace partita::eval {
 
@@ -111,25 +117,107 @@ SeedRun measure(const TimedRender& r, const Reference& ref, const RenderSettings
         run.unit = s.budgetKind == BudgetKind::SamplesPerPixel ? "samples" : "mutations";
     }
     run.stats = v;
+    run.labels = r.result.stats.labels;
     run.acceptance = overallAcceptance(run.stats);
+    // Computed on the fly (no image is allocated), so it does not add to the measured peak.
+    run.partitions = partitionErrors(r.result.image, partitionLabels(run.labels), ref.image);
     return run;
 }
 
+/// The daemon's estimate of what one job of these settings adds (server/job_memory.h), for a
+/// comparison with the measured peak; the scene's bytes are its file and resources.
+void addMemoryEstimate(AlgorithmRun& run, const QualityOptions& o, const ThreadPool& pool) {
+#ifdef PARTITA_EVAL_SERVICE
+    uint64_t sceneBytes = 0;
+    for (const auto& f : sceneFiles(o.scene)) sceneBytes += f.size;
+    auto e =
+        server::estimateJobMemory(run.algorithm, run.settings, sceneBytes, int(pool.threadCount()));
+    run.estimateMb = double(e.bytes) / double(1 << 20);
+    run.estimateBreakdown = e.breakdown;
+#else
+    (void)run;
+    (void)o;
+    (void)pool;
+#endif
+}
+
+/// The bytes of an image's pixels, in MiB.
+double imageMb(const LayeredImage& image) {
+    double bytes = double(image.combined.rgb.size()) * sizeof(float);
+    for (const auto& l : image.layers) bytes += double(l.image.rgb.size()) * sizeof(float);
+    return bytes / double(1 << 20);
+}
+
+/// The algorithms whose renders have one layer per partition.
+bool hasPartitionLayers(const std::string& algorithm) {
+    return algorithm == "partitioned" || algorithm == "guided";
+}
+
+/// `kept` receives the renders' images (for decomposeIntoPartitions) when it is not null.
 AlgorithmRun runAlgorithm(const RenderOptions& r, const QualityOptions& o, const Reference& ref,
-                          const RenderScene& scene, ThreadPool& pool) {
-    AlgorithmRun run{r.algorithm, r.settings, {}, 0, 0, true};
+                          const RenderScene& scene, ThreadPool& pool,
+                          std::vector<LayeredImage>* kept) {
+    AlgorithmRun run;
+    run.algorithm = r.algorithm;
+    run.settings = r.settings;
     run.peakPerAlgorithm = resetPeakRss();
     double before = currentRssMb();
+    // The kept images are resident while the later seeds render: the peak is measured per seed
+    // (reset before each) and what was kept before that seed is taken off it.
+    double keptMb = 0;
     for (int k = 0; k < o.seeds; ++k) {
+        if (k > 0 && run.peakPerAlgorithm) resetPeakRss();
         RenderSettings s = r.settings;
         s.seed = r.settings.seed + uint64_t(k);
         std::string label = r.algorithm + " seed " + std::to_string(s.seed);
-        run.runs.push_back(
-            measure(renderTimed(scene, r.algorithm, s, pool, o.quiet, label), ref, s));
+        TimedRender t = renderTimed(scene, r.algorithm, s, pool, o.quiet, label);
+        run.runs.push_back(measure(t, ref, s));
+        run.peakRssMb = std::max(run.peakRssMb, peakRssMb() - keptMb);
+        if (kept) {
+            keptMb += imageMb(t.result.image);
+            kept->push_back(std::move(t.result.image));
+        }
     }
-    run.peakRssMb = peakRssMb();
     run.rssIncreaseMb = std::max(0.0, run.peakRssMb - before);
+    addMemoryEstimate(run, o, pool);
     return run;
+}
+
+/// The error of a render without partition layers (mlt, pt) on the partitions of `partitioned`'s
+/// render of the same seed: its type layers of the partitions' types, and as the complement its
+/// combined image minus those. A seed is left out when its render merged one of the types into
+/// "other" (they cannot be told apart there); a type it lacks with no "other" is black.
+void decomposeIntoPartitions(AlgorithmRun& run, const std::vector<LayeredImage>& images,
+                             const AlgorithmRun& partitioned, const Reference& ref) {
+    run.partitionsOf = partitioned.algorithm;
+    for (size_t k = 0; k < run.runs.size() && k < images.size(); ++k) {
+        SeedRun& seed = run.runs[k];
+        const LayeredImage& image = images[k];
+        const SeedRun* twin = nullptr;
+        for (const auto& p : partitioned.runs)
+            if (p.seed == seed.seed && !p.partitions.empty()) twin = &p;
+        if (!twin) continue;
+        std::vector<std::string> names;
+        for (const auto& e : twin->partitions) names.push_back(e.layer);
+        LayeredImage d;
+        d.combined = image.combined;
+        Image complement = image.combined;
+        bool separable = true;
+        for (const auto& name : names) {
+            if (name == kComplementLabel) continue;
+            const Image* layer = image.layer(name);
+            if (!layer && image.layer(Film::kOtherLayer)) separable = false;
+            if (!layer) {
+                d.layers.push_back({name, Image(image.combined.width, image.combined.height)});
+                continue;
+            }
+            for (size_t i = 0; i < complement.rgb.size(); ++i) complement.rgb[i] -= layer->rgb[i];
+            d.layers.push_back({name, *layer});
+        }
+        if (!separable) continue;
+        d.layers.push_back({kComplementLabel, std::move(complement)});
+        seed.partitions = partitionErrors(d, names, ref.image);
+    }
 }
 
 /// The scene, the reference and its own error: a measured RMSE^2 is about the render's error^2
@@ -191,13 +279,29 @@ nlohmann::json runQuality(QualityOptions o) {
     auto scene = loadRenderScene(o.scene, o.render.settings.environment);
     ThreadPool pool(o.render.threads);
     std::vector<AlgorithmRun> runs;
+    std::vector<std::vector<LayeredImage>> kept(algorithms.size());
     for (size_t i = 0; i < algorithms.size(); ++i) {
         if (o.equalTime && i > 0) {
             algorithms[i].settings.budgetKind = BudgetKind::Seconds;
             algorithms[i].settings.budget = meanWallSeconds(runs.front());
         }
-        runs.push_back(runAlgorithm(algorithms[i], o, ref, *scene, pool));
+        // The renders of an algorithm without partitions are kept until a partitioned one of
+        // the same run has rendered, to be measured on its partitions too.
+        bool keep =
+            !hasPartitionLayers(algorithms[i].algorithm) &&
+            std::any_of(algorithms.begin() + long(i) + 1, algorithms.end(),
+                        [](const RenderOptions& a) { return hasPartitionLayers(a.algorithm); });
+        kept[i].clear();
+        runs.push_back(
+            runAlgorithm(algorithms[i], o, ref, *scene, pool, keep ? &kept[i] : nullptr));
     }
+    for (const auto& p : runs) {
+        if (!hasPartitionLayers(p.algorithm)) continue;
+        for (size_t i = 0; i < runs.size(); ++i)
+            if (!kept[i].empty()) decomposeIntoPartitions(runs[i], kept[i], p, ref);
+        break;
+    }
+    kept.clear();
     printHeader(o, ref);
     printQualityTables(runs, ref.layerOrder, ref.errors, size_t(o.tableLayers));
     return report(o, ref, runs);

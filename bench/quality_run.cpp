@@ -1,10 +1,12 @@
 #include "quality_run.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "eval/spread.h"
 #include "eval_render.h"
 #include "frontend/progress_bar.h"
+#include "partition/partition.h"
 
 namespace partita::eval {
 
@@ -115,6 +117,105 @@ nlohmann::json layersJson(const AlgorithmRun& run, const std::vector<std::string
     return layers;
 }
 
+/// One partition of a partitioned algorithm over the seeds whose render had it (the pre-pass,
+/// and so the K types, depends on the seed): its statistics P(i), b_i, acceptance and
+/// mutations, and its error against its reference (eval/partition_error.h).
+struct PartitionFigures {
+    std::string layer;
+    int seeds = 0;
+    bool inReference = true;     // in every seed's reference (a type the reference lacks: false)
+    bool ownStatistics = false;  // P(i), b_i ... are the algorithm's (else they are unknown)
+    Spread p, b, acceptance, mutations, rmse, relMse, share;
+};
+
+std::vector<PartitionFigures> partitionFigures(const AlgorithmRun& run) {
+    std::vector<std::string> order;  // as the first seeds list them, the complement last
+    for (const auto& r : run.runs)
+        for (const auto& e : r.partitions)
+            if (std::find(order.begin(), order.end(), e.layer) == order.end())
+                order.push_back(e.layer);
+    std::stable_partition(order.begin(), order.end(),
+                          [](const std::string& n) { return n != kComplementLabel; });
+    std::vector<PartitionFigures> out;
+    for (const auto& name : order) {
+        PartitionFigures f;
+        f.layer = name;
+        std::vector<double> p, b, acc, mutations, rmse, rel, share;
+        for (const auto& r : run.runs)
+            for (size_t g = 0; g < r.partitions.size(); ++g) {
+                const PartitionError& e = r.partitions[g];
+                if (e.layer != name) continue;
+                f.inReference = f.inReference && e.inReference;
+                std::string key = "partition_" + std::to_string(g) + "_";
+                auto stat = [&](const char* what, std::vector<double>& v) {
+                    if (auto it = r.stats.find(key + what); it != r.stats.end())
+                        v.push_back(it->second);
+                };
+                stat("p", p);
+                stat("b", b);
+                stat("acceptance", acc);
+                stat("mutations", mutations);
+                rmse.push_back(e.rmse);
+                rel.push_back(e.relMse);
+                share.push_back(e.share);
+            }
+        f.seeds = int(rmse.size());
+        f.ownStatistics = !p.empty();
+        f.p = spreadOf(p);
+        f.b = spreadOf(b);
+        f.acceptance = spreadOf(acc);
+        f.mutations = spreadOf(mutations);
+        f.rmse = spreadOf(rmse);
+        f.relMse = spreadOf(rel);
+        f.share = spreadOf(share);
+        out.push_back(f);
+    }
+    return out;
+}
+
+/// The sum of the partitions' shares of the squared error, mean over seeds (1 without cross
+/// terms); null without partitions.
+std::optional<double> shareSum(const AlgorithmRun& run) {
+    std::vector<double> v;
+    for (const auto& r : run.runs) {
+        if (r.partitions.empty()) continue;
+        double sum = 0;
+        for (const auto& e : r.partitions) sum += e.share;
+        v.push_back(sum);
+    }
+    if (v.empty()) return std::nullopt;
+    return spreadOf(v).mean;
+}
+
+nlohmann::json partitionsJson(const AlgorithmRun& run, const ReferenceErrors& referenceErrors) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& f : partitionFigures(run)) {
+        auto ref = referenceErrors.find(f.layer);
+        auto own = [&](double v) { return f.ownStatistics ? nlohmann::json(v) : nlohmann::json(); };
+        out.push_back(
+            {{"layer", f.layer},
+             {"seeds", f.seeds},
+             {"in_reference", f.inReference},
+             {"p", own(f.p.mean)},
+             {"p_std", own(f.p.std)},
+             {"b", own(f.b.mean)},
+             {"b_std", own(f.b.std)},
+             {"acceptance", own(f.acceptance.mean)},
+             {"acceptance_std", own(f.acceptance.std)},
+             {"mutations_mean", own(f.mutations.mean)},
+             {"rmse_mean", f.rmse.mean},
+             {"rmse_std", f.rmse.std},
+             {"relmse_mean", f.relMse.mean},
+             {"relmse_std", f.relMse.std},
+             {"error_share_mean", f.share.mean},
+             {"error_share_std", f.share.std},
+             {"reference_rmse", f.layer == kComplementLabel || ref == referenceErrors.end()
+                                    ? nlohmann::json()
+                                    : nlohmann::json(ref->second.rmse)}});
+    }
+    return out;
+}
+
 std::string meanStd(const Spread& s) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.4g +- %.2g", s.mean, s.std);
@@ -221,6 +322,73 @@ void printLayerRows(const std::vector<AlgorithmRun>& runs,
         std::printf("* over the seeds whose render kept this type among its --layers largest\n");
 }
 
+/// Per partition of each partitioned algorithm: P(i), b_i, acceptance, its RMSE against its own
+/// reference and its share of the combined image's squared error; the same errors of the
+/// algorithms measured on a partitioned algorithm's partitions (decomposeIntoPartitions).
+void printPartitionRows(const std::vector<AlgorithmRun>& runs,
+                        const ReferenceErrors& referenceErrors) {
+    for (const auto& run : runs) {
+        auto sum = shareSum(run);
+        if (!sum) continue;
+        std::string prepass;
+        const auto& labels = run.runs.front().labels;
+        if (auto it = labels.find("prepass"); it != labels.end()) prepass = it->second;
+        if (run.partitionsOf.empty())
+            std::printf(
+                "\n%s per partition, mean +- std over the seeds that had it (pre-pass %s)\n",
+                run.algorithm.c_str(), prepass.c_str());
+        else
+            std::printf(
+                "\n%s on the partitions of %s's render of the same seed (its type layers; "
+                "complement: its combined minus them;\nleft out: a seed whose render merged one "
+                "of the types into 'other')\n",
+                run.algorithm.c_str(), run.partitionsOf.c_str());
+        std::printf(
+            "RMSE against the partition's reference (the type's layer; complement: combined "
+            "minus the K types' layers);\nshare: its squared error over the combined image's "
+            "(the shares sum to %.3f, not 1: cross terms between partitions)\n",
+            *sum);
+        std::printf("%-20s %5s %8s  %-20s %7s  %-20s %10s %7s\n", "partition", "seeds", "P(i)",
+                    "b_i", "accept", "RMSE", "ref", "share");
+        bool missing = false;
+        for (const auto& f : partitionFigures(run)) {
+            auto ref = referenceErrors.find(f.layer);
+            char refText[32] = "-";
+            if (f.layer != kComplementLabel && ref != referenceErrors.end())
+                std::snprintf(refText, sizeof refText, "%.4g", ref->second.rmse);
+            std::string name = f.layer + (f.inReference ? "" : " !");
+            missing = missing || !f.inReference;
+            std::string p = "-", b = "-", acc = "-";
+            if (f.ownStatistics) {
+                p = formatted("%.4f", f.p.mean);
+                b = meanStd(f.b);
+                acc = formatted("%.3f", f.acceptance.mean);
+            }
+            std::printf("%-20s %5d %8s  %-20s %7s  %-20s %10s %7.3f\n", name.c_str(), f.seeds,
+                        p.c_str(), b.c_str(), acc.c_str(), meanStd(f.rmse).c_str(), refText,
+                        f.share.mean);
+        }
+        if (missing)
+            std::printf(
+                "! a type the reference has no layer of (compared with black); the complement "
+                "when the reference may hold such a type in its 'other'\n");
+    }
+}
+
+/// The daemon's memory estimate of one job against what the renders here added.
+void printEstimateRows(const std::vector<AlgorithmRun>& runs) {
+    bool any = false;
+    for (const auto& r : runs) any = any || r.estimateMb.has_value();
+    if (!any) return;
+    std::printf(
+        "\njob memory estimate (server/job_memory.h) against the measured peak increase here "
+        "(in-process, no previews)\n");
+    for (const auto& r : runs)
+        if (r.estimateMb)
+            std::printf("%-12s estimate %8.1f MB  measured +%.1f MB  (%s)\n", r.algorithm.c_str(),
+                        *r.estimateMb, r.rssIncreaseMb, r.estimateBreakdown.c_str());
+}
+
 }  // namespace
 
 double meanWallSeconds(const AlgorithmRun& run) {
@@ -261,15 +429,36 @@ nlohmann::json resultJson(const AlgorithmRun& run, const AlgorithmRun& baseline,
         perMutation[name] = orNull(a);
     j["acceptance_per_mutation"] = perMutation;
     j["statistics_mean"] = meanStatistics(statistics(run));
+    j["job_memory_estimate_mb"] = orNull(run.estimateMb);
+    j["job_memory_estimate_breakdown"] = run.estimateBreakdown;
     nlohmann::json perSeed = nlohmann::json::array();
-    for (const auto& r : run.runs)
-        perSeed.push_back({{"seed", r.seed},
-                           {"rmse", r.errors.front().rmse},
-                           {"relmse", r.errors.front().relMse},
-                           {"seconds", r.wallSeconds},
-                           {"statistics", r.stats}});
+    for (const auto& r : run.runs) {
+        nlohmann::json seed = {{"seed", r.seed},
+                               {"rmse", r.errors.front().rmse},
+                               {"relmse", r.errors.front().relMse},
+                               {"seconds", r.wallSeconds},
+                               {"statistics", r.stats},
+                               {"labels", r.labels}};
+        if (!r.partitions.empty()) {
+            nlohmann::json parts = nlohmann::json::array();
+            for (const auto& e : r.partitions)
+                parts.push_back({{"layer", e.layer},
+                                 {"rmse", e.rmse},
+                                 {"relmse", e.relMse},
+                                 {"squared_error", e.squaredError},
+                                 {"error_share", e.share},
+                                 {"in_reference", e.inReference}});
+            seed["partitions"] = parts;
+        }
+        perSeed.push_back(seed);
+    }
     j["per_seed"] = perSeed;
     j["layers"] = layersJson(run, layerOrder, referenceErrors);
+    if (auto sum = shareSum(run)) {
+        j["partitions"] = partitionsJson(run, referenceErrors);
+        j["partition_error_share_sum_mean"] = *sum;
+        if (!run.partitionsOf.empty()) j["partitions_of"] = run.partitionsOf;
+    }
     return j;
 }
 
@@ -285,6 +474,8 @@ void printQualityTables(const std::vector<AlgorithmRun>& runs,
     if (!runs.empty()) printCostRows(runs);
     printAcceptanceRows(runs);
     printLayerRows(runs, layerOrder, referenceErrors, tableLayers);
+    printPartitionRows(runs, referenceErrors);
+    printEstimateRows(runs);
 }
 
 }  // namespace partita::eval

@@ -186,6 +186,13 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;
+    // Half B's path records, alive from the pre-pass to the end of the render (allocated: the
+    // vector's capacity).
+    st.values["prepass_records"] = double(prepass.candidatesB.size());
+    st.values["prepass_record_bytes"] =
+        double(prepass.candidatesB.size() * sizeof(BootstrapCandidate));
+    st.values["prepass_record_allocated_bytes"] =
+        double(prepass.candidatesB.capacity() * sizeof(BootstrapCandidate));
     st.values["burn_in"] = double(settings.burnIn);
     for (const auto& [key, value] : setupStats.values) st.values[key] = value;
     for (const auto& [key, label] : setupStats.labels) st.labels[key] = label;
