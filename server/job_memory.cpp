@@ -146,8 +146,12 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
     int films = filmCount(algorithm, s);
-    int layers = std::max(0, s.maxTypeLayers) + 2;  // combined and "other" too
     int partitions = hasPartitions(algorithm) ? std::max(0, s.partitions) + 1 : 0;
+    // The result's images: the combined one and "other" besides the type layers; for the
+    // partitioned methods one a partition (K + 1) and the combined one, while each partition's
+    // film is resolved with its type layers one partition at a time.
+    int typeLayers = std::max(0, s.maxTypeLayers) + 2;
+    int layers = partitions > 0 ? partitions + 1 + typeLayers : typeLayers;
 
     double film = films * padded * (kFilmCombined + kFilmTypeAllowance);
     double images = layers * pixels * kLayerCopies;

@@ -11,7 +11,19 @@ bool Partition::holds(const PathType& t) const {
     return complement ? !listed : listed;
 }
 
-std::vector<Partition> makePartitions(const PrepassResult& prepass, int k) {
+namespace {
+
+/// The relative standard error of b = S1 / N from N samples whose values sum to S1 and whose
+/// squares sum to S2: sqrt(S2 / S1^2 - 1 / N) (the samples' variance over N, over b^2).
+double relativeError(double s1, double s2, double n) {
+    if (!(s1 > 0)) return INFINITY;
+    return std::sqrt(std::max(0.0, s2 / (s1 * s1) - 1.0 / n));
+}
+
+}  // namespace
+
+std::vector<Partition> makePartitions(const PrepassResult& prepass, int k,
+                                      double maxRelativeError) {
     std::vector<std::pair<PathType, double>> ranked(prepass.gamma.begin(), prepass.gamma.end());
     // Largest gamma first; the map's order (type order) breaks ties, deterministically.
     std::stable_sort(ranked.begin(), ranked.end(),
@@ -21,17 +33,23 @@ std::vector<Partition> makePartitions(const PrepassResult& prepass, int k) {
         return it == prepass.sumB.end() ? 0.0 : it->second;
     };
     double nB = double(std::max<uint64_t>(1, prepass.samplesB));
+    auto bError = [&](const PathType& t) {
+        auto it = prepass.sumSquaresB.find(t);
+        return relativeError(sumB(t), it == prepass.sumSquaresB.end() ? 0.0 : it->second, nB);
+    };
     std::vector<Partition> out;
     Partition complement;
     complement.label = kComplementLabel;
     complement.complement = true;
     for (const auto& [type, gamma] : ranked) {
-        if (int(out.size()) < k && gamma > 0 && sumB(type) > 0) {
+        if (int(out.size()) < k && gamma > 0 && sumB(type) > 0 &&
+            bError(type) <= maxRelativeError) {
             Partition p;
             p.label = type.toString();
             p.types = {type};
             p.gamma = gamma;
             p.b = sumB(type) / nB;
+            p.bError = bError(type);
             out.push_back(p);
             complement.types.push_back(type);  // what the complement excludes
         } else {

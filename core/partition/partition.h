@@ -2,9 +2,12 @@
 // gamma in the pre-pass's half A each form a partition; every other type forms the
 // complementary partition (Eq. 6), which also gets chains. Every path belongs to exactly one.
 // P(i) = gamma(i) / sum over all K + 1 partitions; b_i, the integral of f* over partition i,
-// comes from half B: (1 / N_B) sum of C over its paths. A partition with no half-B path is
-// folded into the complement (it could not start a chain); a complement with nothing in half B
-// is dropped (so is everything when the image is black).
+// comes from half B: (1 / N_B) sum of C over its paths. A type whose half-B estimate of b_i has
+// a relative standard error above a bound (default 15%) is folded into the complement, and so
+// is one with no half-B path (it could not start a chain): a partition's b_i scales its whole
+// image, so no number of mutations repairs a b_i that is off (measured: rare types with b_i off
+// by 2-16x on pool and bathroom, bench/README.md "partitioned against mlt and pt"). A
+// complement with nothing in half B is dropped (so is everything when the image is black).
 #pragma once
 
 #include <string>
@@ -19,9 +22,11 @@ struct Partition {
     std::string label;            // the type string, or "complement"
     std::vector<PathType> types;  // the types it holds; the complement: those it excludes
     bool complement = false;
-    double gamma = 0;  // half A
-    double p = 0;      // P(i)
-    double b = 0;      // half B's estimate of the integral of f* over the partition
+    double gamma = 0;   // half A
+    double p = 0;       // P(i)
+    double b = 0;       // half B's estimate of the integral of f* over the partition
+    double bError = 0;  // its relative standard error from half B's spread (0: the complement's,
+                        // not estimated)
 
     /// Whether a path of type t belongs here (the chains' restriction).
     bool holds(const PathType& t) const;
@@ -31,7 +36,8 @@ inline constexpr const char* kComplementLabel = "complement";
 
 /// The partitions of `prepass` with up to `k` types of their own (k = 0: the complement alone,
 /// which is all of path space), ordered by decreasing gamma, the complement last.
-std::vector<Partition> makePartitions(const PrepassResult& prepass, int k);
+std::vector<Partition> makePartitions(const PrepassResult& prepass, int k,
+                                      double maxRelativeError = 0.15);
 
 /// Mutations per partition in proportion to P(i) (the stratified form of Eq. 10), after
 /// `minimum` for every partition (when n allows), so that none with b_i > 0 goes without a

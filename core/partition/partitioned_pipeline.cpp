@@ -98,6 +98,7 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         st.values[key + "gamma"] = p.gamma;
         st.values[key + "p"] = p.p;
         st.values[key + "b"] = p.b;
+        if (!p.complement) st.values[key + "b_error"] = p.bError;
         st.values[key + "mutations"] = double(runner.mutationsDone(int(g)));
         uint64_t proposed = 0, accepted = 0;
         for (const auto& [name, m] : runner.mutationStats(int(g))) {

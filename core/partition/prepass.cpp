@@ -39,7 +39,7 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
                          uint64_t samples, uint64_t maxCandidateBytes) {
     ProgressReporter progress(ctx.observer, "prepass", "samples", double(samples));
     struct Block {
-        std::map<PathType, double> gamma, sumB;
+        std::map<PathType, double> gamma, sumB, sumSquaresB;
         std::vector<BootstrapCandidate> candidatesB;
         uint64_t rays = 0;
     };
@@ -48,16 +48,31 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
     ctx.pool.parallelFor(size_t(blocks), [&](size_t k) {
         Block& block = done[k];
         std::vector<BootstrapCandidate> scratch;
+        std::vector<std::pair<PathType, double>> perType;  // this sample's C per type
         uint64_t first = k * kBlock, end = std::min(samples, first + kBlock);
         for (uint64_t i = first; i < end; ++i) {
             if ((i & 15) == 0) ctx.throwIfCancelled();
             scratch.clear();
             sampler.sample(i, scratch, block.rays);
             bool halfB = i % 2 == 1;
-            for (const BootstrapCandidate& c : scratch)
-                (halfB ? block.sumB : block.gamma)[c.type] += c.weight;
-            if (halfB)
-                block.candidatesB.insert(block.candidatesB.end(), scratch.begin(), scratch.end());
+            if (!halfB) {
+                for (const BootstrapCandidate& c : scratch) block.gamma[c.type] += c.weight;
+                continue;
+            }
+            perType.clear();
+            for (const BootstrapCandidate& c : scratch) {
+                auto same = [&](const auto& e) { return e.first == c.type; };
+                auto it = std::find_if(perType.begin(), perType.end(), same);
+                if (it != perType.end())
+                    it->second += c.weight;
+                else
+                    perType.push_back({c.type, c.weight});
+            }
+            for (const auto& [type, c] : perType) {
+                block.sumB[type] += c;
+                block.sumSquaresB[type] += c * c;
+            }
+            block.candidatesB.insert(block.candidatesB.end(), scratch.begin(), scratch.end());
         }
         progress.advance(double(end - first));
     });
@@ -69,6 +84,7 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
     for (Block& block : done) {  // in block order: the same sums for any thread count
         for (const auto& [type, c] : block.gamma) r.gamma[type] += c;
         for (const auto& [type, c] : block.sumB) r.sumB[type] += c;
+        for (const auto& [type, c2] : block.sumSquaresB) r.sumSquaresB[type] += c2;
         r.rays += block.rays;
         size_t room = maxCandidates - std::min(maxCandidates, r.candidatesB.size());
         if (block.candidatesB.size() > room) r.candidatesTruncated = true;

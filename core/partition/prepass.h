@@ -34,8 +34,11 @@ StartupEstimator choosePrepassEstimator(const RenderScene& scene, const std::str
 
 struct PrepassResult {
     uint64_t samplesA = 0, samplesB = 0;
-    std::map<PathType, double> gamma;             // half A: sum of C per type
-    std::map<PathType, double> sumB;              // half B: sum of C per type
+    std::map<PathType, double> gamma;  // half A: sum of C per type
+    std::map<PathType, double> sumB;   // half B: sum of C per type
+    /// half B: per type, the sum over samples of (the sample's C of that type)^2, for the
+    /// standard error of b_i (partition.h)
+    std::map<PathType, double> sumSquaresB;
     std::vector<BootstrapCandidate> candidatesB;  // half B's paths, in sample order
     bool candidatesTruncated = false;             // the memory budget was reached
     uint64_t rays = 0;

@@ -54,7 +54,7 @@ inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint
     RenderContext ctx{scene, camera, st, pool, cancel, observer};
     std::string why;
     BootstrapSampler sampler(scene, camera, kMaxDepth, seed,
-                             choosePrepassEstimator(scene, "auto", why));
+                             choosePrepassEstimator(scene, RenderSettings{}.prepass, why));
     return makePartitions(runPrepass(ctx, sampler, samples), k);
 }
 

@@ -118,7 +118,7 @@ std::string referenceKeyText(const std::vector<SceneFile>& files, const std::str
       << "radius=" << number(s.guideRadius) << "\nepsilon=" << number(s.guideEpsilon) << "\n"
       << "layers=" << s.maxTypeLayers << "\n";
     if (s.bootstrapSamples > 0) t << "bootstrap=" << s.bootstrapSamples << "\n";
-    if (s.prepass != "auto") t << "prepass=" << s.prepass << "\n";
+    if (s.prepass != RenderSettings{}.prepass) t << "prepass=" << s.prepass << "\n";
     const EnvironmentSettings& env = s.environment;
     if (env.hasColor)
         t << "environment_color=" << number(env.color[0]) << "," << number(env.color[1]) << ","

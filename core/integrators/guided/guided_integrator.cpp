@@ -34,7 +34,8 @@ std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResul
                                     const DenoiseSettings& denoise, RenderStats& stats) {
     const RenderSettings& rs = ctx.settings;
     auto start = std::chrono::steady_clock::now();
-    ProgressReporter progress(ctx.observer, "prepass", "guide steps", 3);
+    // Its own phase, after "prepass" (the job stays in PREPASS): G-buffer, denoise, thresholds.
+    ProgressReporter progress(ctx.observer, "guides", "steps", 3);
     auto guides = std::make_shared<Guides>();
     guides->gbuffer = buildGBuffer(ctx);
     progress.advance(1);
