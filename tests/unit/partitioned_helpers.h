@@ -81,6 +81,31 @@ inline Image partitionReference(const LayeredImage& bdpt, const Partition& p) {
     return sum;
 }
 
+/// The partitions a render made, from its statistics (partition_<g>_type): the one-type
+/// partitions, then the complement of them all (when it has one).
+inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
+    std::vector<Partition> out;
+    Partition complement;
+    complement.label = kComplementLabel;
+    complement.complement = true;
+    int count = int(r.stats.values["partitions"]);
+    for (int g = 0; g < count; ++g) {
+        std::string label = r.stats.labels["partition_" + std::to_string(g) + "_type"];
+        if (label == kComplementLabel) {
+            out.push_back(complement);
+            continue;
+        }
+        Partition p;
+        p.label = label;
+        PathType t;
+        EXPECT_TRUE(PathType::parse(label, t)) << label;
+        p.types = {t};
+        complement.types.push_back(t);
+        out.push_back(p);
+    }
+    return out;
+}
+
 /// Each partition's image (and the combined one) against the BDPT reference of its types, per
 /// block, over independent seeds. The partitions are those of the render's own pre-pass, which
 /// are the same for every seed only if the ranking is stable: the test compares by label.
@@ -98,7 +123,7 @@ inline void expectPartitionsConverge(const std::string& algorithm, const std::st
                 .image;
         mine["combined"].push_back(blocks(r.image.combined));
         reference["combined"].push_back(blocks(bdpt.combined));
-        std::vector<Partition> partitions = partitionsOf(scene, 4, st.seed, 100000);
+        std::vector<Partition> partitions = partitionsOfRender(r);
         for (const Partition& p : partitions) {
             const Image* layer = r.image.layer(p.label);
             ASSERT_NE(layer, nullptr) << p.label;
