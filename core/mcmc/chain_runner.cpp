@@ -129,13 +129,20 @@ void ChainRunner::addSplats() {
     }
 }
 
-LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
+double ChainRunner::groupScale(uint32_t group) const {
     uint64_t done = mutationsDone(int(group));
     double pixels = double(ctx_.settings.width) * ctx_.settings.height;
     // paper Eq. 9's I_i = (b_i / N_i) sum h(x) f(x) / f*(x), with h the tent filter times the
     // pixel count (the camera's importance is normalised over the whole image).
-    double scale = done > 0 ? plan_.groups[group].b * pixels / double(done) : 0;
-    return films_[group].resolve(float(scale), ctx_.settings.maxTypeLayers, pool);
+    return done > 0 ? plan_.groups[group].b * pixels / double(done) : 0;
+}
+
+LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
+    return films_[group].resolve(float(groupScale(group)), ctx_.settings.maxTypeLayers, pool);
+}
+
+Image ChainRunner::resolveGroupCombined(uint32_t group) const {
+    return films_[group].resolveCombined(float(groupScale(group)));
 }
 
 uint64_t ChainRunner::mutationsDone(int group) const {

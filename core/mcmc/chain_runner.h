@@ -44,6 +44,8 @@ class ChainRunner {
 
     /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it).
     LayeredImage resolveGroup(uint32_t group, ThreadPool* pool) const;
+    /// Only the combined image of group g (no type layers), scaled the same way.
+    Image resolveGroupCombined(uint32_t group) const;
     const Film& film(uint32_t group) const { return films_[group]; }
     uint64_t mutationsDone(int group = -1) const;
     /// Per mutation name: proposed, accepted, sum of a, over all chains (of a group if >= 0).
@@ -51,6 +53,8 @@ class ChainRunner {
     uint64_t rays() const;
 
   private:
+    /// b_g W H / N_g.
+    double groupScale(uint32_t group) const;
     struct Chain;
     void burnIn();  // every chain's burn-in steps, unsplatted
     void runRound(uint64_t roundLength, ProgressReporter& progress);

@@ -76,11 +76,13 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
 
 /// The combined image (Eq. 9: the sum of the partitions' images) and one layer per partition.
 LayeredImage resolvePartitions(const ChainRunner& runner, const std::vector<Partition>& partitions,
-                               int width, int height, ThreadPool* pool) {
+                               int width, int height) {
     LayeredImage out;
     out.combined = Image(width, height);
     for (size_t g = 0; g < partitions.size(); ++g) {
-        Image image = runner.resolveGroup(uint32_t(g), pool).combined;
+        // The combined image only: a partition's type layers are not kept (each would be a
+        // full image, K + 1 times over).
+        Image image = runner.resolveGroupCombined(uint32_t(g));
         if (image.empty()) image = Image(width, height);
         for (size_t i = 0; i < image.rgb.size(); ++i) out.combined.rgb[i] += image.rgb[i];
         out.layers.push_back({partitions[g].label, std::move(image)});
@@ -171,16 +173,14 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     ChainRunner runner(ctx, plan, makeMutations, restriction, settings.roundMutations);
     runChainsWithPreviews(
         ctx, runner, plan, startupSeconds,
-        [&](ThreadPool* pool) {
-            return resolvePartitions(runner, partitions, rs.width, rs.height, pool);
-        },
+        [&](ThreadPool*) { return resolvePartitions(runner, partitions, rs.width, rs.height); },
         [&](RenderStats& st) { addPartitionStats(st, partitions, runner); },
         [&](ProgressReporter& progress) {
             progress.setPartitions(partitionProgress(partitions, runner));
         });
 
     RenderResult result;
-    result.image = resolvePartitions(runner, partitions, rs.width, rs.height, nullptr);
+    result.image = resolvePartitions(runner, partitions, rs.width, rs.height);
     RenderStats& st = result.stats;
     st.labels["prepass"] = why;
     st.values["prepass_samples"] = double(samples);
