@@ -117,7 +117,24 @@ void say(std::FILE* out, const char* line) {
     std::fflush(out);
 }
 
+/// Whether this machine can open a pseudo-terminal (a minimal chroot may have no /dev/pts):
+/// the tests below are skipped, visibly, where it cannot.
+bool pseudoTerminalsAvailable() {
+    try {
+        PseudoTerminal probe(80, 24);
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+#define SKIP_WITHOUT_PTY()                                \
+    if (!pseudoTerminalsAvailable())                      \
+    GTEST_SKIP() << "no pseudo-terminal on this machine " \
+                    "(/dev/pts): the redraw is not tested"
+
 TEST(ProgressBarTerminal, ABarWithoutATableIsRedrawnWithoutEscapes) {
+    SKIP_WITHOUT_PTY();
     const std::string raw = drawOnTerminal(80, 24, [](ProgressBar& bar, std::FILE* out) {
         say(out, "above");
         bar.update(report(0, 10));
@@ -136,6 +153,7 @@ TEST(ProgressBarTerminal, ABarWithoutATableIsRedrawnWithoutEscapes) {
 }
 
 TEST(ProgressBarTerminal, TheFirstTableReplacesTheBarDrawnBeforeIt) {
+    SKIP_WITHOUT_PTY();
     // A phase's first report comes before its partitions; a short render draws its table once.
     const std::string raw = drawOnTerminal(80, 24, [](ProgressBar& bar, std::FILE* out) {
         say(out, "above");
@@ -158,6 +176,7 @@ TEST(ProgressBarTerminal, TheFirstTableReplacesTheBarDrawnBeforeIt) {
 }
 
 TEST(ProgressBarTerminal, TheTableGrowsAndShrinksInPlace) {
+    SKIP_WITHOUT_PTY();
     const std::string raw = drawOnTerminal(80, 24, [](ProgressBar& bar, std::FILE* out) {
         say(out, "above");
         bar.update(report(0));  // a phase's first report comes before its partitions
@@ -191,6 +210,7 @@ TEST(ProgressBarTerminal, TheTableGrowsAndShrinksInPlace) {
 }
 
 TEST(ProgressBarTerminal, ANarrowTerminalCutsTheRowsInsteadOfWrappingThem) {
+    SKIP_WITHOUT_PTY();
     // Under 20 columns too: a wrapped row would put the move up short of the table's first line.
     for (int columns : {16, 30}) {
         const std::string raw = drawOnTerminal(columns, 24, [](ProgressBar& bar, std::FILE* out) {
@@ -225,6 +245,7 @@ TEST(ProgressBarTerminal, ANarrowTerminalCutsTheRowsInsteadOfWrappingThem) {
 }
 
 TEST(ProgressBarTerminal, AShortTerminalShowsTheTableThatFitsAboveTheBar) {
+    SKIP_WITHOUT_PTY();
     // 6 rows: 5 lines of table above the bar. A taller table would be drawn lower each time (the
     // move up stops at the top of the screen), leaving its first lines in the history.
     const std::string raw = drawOnTerminal(80, 6, [](ProgressBar& bar, std::FILE* out) {
@@ -273,6 +294,7 @@ TEST(ProgressBarTerminal, AShortTerminalShowsTheTableThatFitsAboveTheBar) {
 }
 
 TEST(CliTerminal, PartitionedRenderRedrawsItsTableInPlace) {
+    SKIP_WITHOUT_PTY();
     Daemon daemon;
     TempDir dir;
     constexpr int kColumns = 120, kRows = 40;
