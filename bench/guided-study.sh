@@ -1,0 +1,97 @@
+#!/bin/sh
+# guided against mlt and partitioned on every shipped scene (issue #13 item 7): a BDPT reference
+# per scene with every type layer (the cache that make-references.sh and the other studies
+# share), then
+#  1. `quality --algorithms mlt,partitioned,guided --mpp MPP`: equal mutations per pixel, with the
+#     same start-up budget for all three (--bootstrap BOOTSTRAP: mlt's BDPT bootstrap samples and
+#     the partitioned methods' pre-pass samples are all RenderSettings::bootstrapSamples; the
+#     pre-pass of partitioned and guided is BDPT, the default, so all three start from the same
+#     estimator); mlt and partitioned are also measured on partitioned's partitions (guided's
+#     are the same: same seed, same pre-pass);
+#  2. `quality --algorithms pt,mlt,partitioned,guided --spp PT_SPP --equal-time`: mlt,
+#     partitioned and guided get pt's mean wall time. Unless PT_SPP is given, it is chosen per
+#     scene as in partitioned-study.sh, so that pt takes about the time mlt took for MPP
+#     mutations per pixel in step 1: a one-seed pt render of CAL_SPP spp, times mlt's mean wall
+#     time over pt's, rounded (at least 1).
+# REF_SPP (default 1024) is the references' budget; REF_SPPS="pool=8192 bathroom=4096" gives
+# some scenes more (a reference whose own error is close to the renders' compresses every ratio
+# toward 1; the harness prints the reference's own RMSE, bench/guided-study-table.py subtracts
+# it). SEEDS seeds each; the renders keep LAYERS type layers (default 64, so that mlt's and
+# pt's films keep the K types apart from "other"). Every run's table goes to
+# OUT/<scene>-<run>.txt (and stdout), its figures to OUT/<scene>-<run>.json;
+# bench/guided-study-table.py turns those into bench/README's tables. A scene that fails does
+# not stop the others (the script exits 1 naming them at the end). Renders run under
+# `nice -n 10` (NICE= to change); never run two studies at once. EQUAL_TIME=0 skips step 2.
+#   bench/guided-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4;
+#                            SCENES="cornell ..." picks scenes)
+set -eu
+cd "$(dirname "$0")/.."
+EVAL=${PARTITA_EVAL:-build-bench/bench/partita-eval}
+SIZE=${SIZE:-128x96}
+W=${SIZE%x*}
+H=${SIZE#*x}
+MPP=${MPP:-32}
+BOOTSTRAP=${BOOTSTRAP:-100000}
+SEEDS=${SEEDS:-4}
+CAL_SPP=${CAL_SPP:-64}
+LAYERS=${LAYERS:-64}
+NICE=${NICE-nice -n 10}
+OUT=${OUT:-build-bench/guided-study}
+mkdir -p "$OUT"
+failed=
+
+# quality NAME SCENE ARGS...: one `quality` run, its table to OUT/SCENE-NAME.txt and stdout.
+quality() {
+    name=$1
+    scene=$2
+    shift 2
+    echo "== $scene $name ($(date +%H:%M:%S))" >&2
+    if $NICE "$EVAL" quality --scene "scenes/$scene/$scene.gltf" --reference "$OUT/$scene-ref.exr" \
+        --bootstrap "$BOOTSTRAP" --layers "$LAYERS" --quiet --json "$OUT/$scene-$name.json" "$@" \
+        >"$OUT/$scene-$name.txt"; then
+        cat "$OUT/$scene-$name.txt"
+    else
+        failed="$failed $scene:$name"
+        return 1
+    fi
+}
+
+# json_field FILE ALGORITHM FIELD: a figure of one algorithm's result in a quality JSON file.
+json_field() {
+    python3 -c 'import json, sys
+j = json.load(open(sys.argv[1]))
+print(next(r[sys.argv[3]] for r in j["results"] if r["algorithm"] == sys.argv[2]))' "$@"
+}
+
+# ref_spp SCENE: the reference budget of SCENE (REF_SPPS entry, else REF_SPP).
+ref_spp() {
+    spp=${REF_SPP:-1024}
+    for entry in ${REF_SPPS:-}; do
+        [ "${entry%%=*}" != "$1" ] || spp=${entry#*=}
+    done
+    echo "$spp"
+}
+
+for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom pool}; do
+    if ! $NICE "$EVAL" reference --scene "scenes/$scene/$scene.gltf" --algorithm bdpt \
+        --spp "$(ref_spp "$scene")" --width "$W" --height "$H" --layers 1024 --quiet \
+        --out "$OUT/$scene-ref.exr" >"$OUT/$scene-ref.txt"; then
+        failed="$failed $scene:reference"
+        continue
+    fi
+    head -3 "$OUT/$scene-ref.txt"
+    quality "mpp$MPP" "$scene" --algorithms mlt,partitioned,guided --mpp "$MPP" --seeds "$SEEDS" ||
+        continue
+    [ "${EQUAL_TIME:-1}" = 1 ] || continue
+    spp=${PT_SPP:-}
+    if [ -z "$spp" ]; then
+        quality pt-calibration "$scene" --algorithms pt --spp "$CAL_SPP" --seeds 1 >/dev/null || continue
+        mlt=$(json_field "$OUT/$scene-mpp$MPP.json" mlt seconds_mean)
+        pt=$(json_field "$OUT/$scene-pt-calibration.json" pt seconds_mean)
+        spp=$(python3 -c "import sys; print(max(1, round($CAL_SPP * $mlt / $pt)))")
+        echo "$scene: pt at $spp spp (pt $CAL_SPP spp took $pt s, mlt $MPP mpp $mlt s)" >&2
+    fi
+    quality equal-time "$scene" --algorithms pt,mlt,partitioned,guided --spp "$spp" \
+        --seeds "$SEEDS" --equal-time || continue
+done
+[ -z "$failed" ] || { echo "guided-study: failed:$failed" >&2; exit 1; }
