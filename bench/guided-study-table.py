@@ -21,6 +21,11 @@ import sys
 SCENES = ["cornell", "cornell-glass", "cornell-point", "door-ajar", "bathroom", "pool"]
 CAUSTIC = {"cornell-glass", "bathroom", "pool"}
 MB = 1e6
+EQUAL_TIME_VARIANTS = {
+    "equal-time": "pt's spp calibrated to mlt's 32-mpp wall time",
+    "equal-time-guided": "calibrated to guided's 32-mpp wall time",
+    "equal-time-x4": "calibrated to 4 x mlt's 32-mpp wall time",
+}
 
 
 def g(x, digits=3):
@@ -81,7 +86,7 @@ def per_counted_us(r, pixels):
 
 
 def study(folder):
-    rows_mpp, rows_cost, rows_acc, rows_time, per_scene = [], [], [], [], []
+    rows_mpp, rows_cost, rows_acc, rows_time, per_scene = [], [], [], {}, []
     for scene in SCENES:
         eq = load(f"{folder}/{scene}-mpp32.json")
         et = load(f"{folder}/{scene}-equal-time.json")
@@ -127,11 +132,14 @@ def study(folder):
                 f"{g(m['acceptance'], 2)} / {g(p['acceptance'], 2)} / {g(q['acceptance'], 2)}",
             ]) + " |")
             per_scene.append((scene, eq, m, p, q))
-        if et:
+        for variant in EQUAL_TIME_VARIANTS:
+            et = load(f"{folder}/{scene}-{variant}.json")
+            if not et:
+                continue
             t, m, p, q = (result(et, a) for a in ("pt", "mlt", "partitioned", "guided"))
             if not all((t, m, p, q)):
                 continue
-            rows_time.append("| " + " | ".join([
+            rows_time.setdefault(variant, []).append("| " + " | ".join([
                 scene, f"{t['spp']:.0f} spp = {t['seconds_mean']:.2f} s",
                 pm(t["rmse_mean"], t["rmse_std"]),
                 f"{pm(m['rmse_mean'], m['rmse_std'])} ({units(m)})",
@@ -168,13 +176,14 @@ def study(folder):
           "| multi part. | multi guided | overall mlt / part. / guided |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     print("\n".join(rows_acc))
-    print("\nEqual time (mlt, partitioned and guided get pt's mean wall time), RMSE mean +- std "
-          "over 4 seeds (mpp reached):\n")
-    print("| scene | pt spp = time | pt | mlt (mpp) | partitioned (mpp) | guided (mpp) "
-          "| guided / mlt | guided / pt | partitioned / mlt | s taken mlt / part. / guided "
-          "| guided start-up s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    print("\n".join(rows_time))
+    for variant, rows in rows_time.items():
+        print(f"\nEqual time ({variant}: {EQUAL_TIME_VARIANTS[variant]}; mlt, partitioned and "
+              "guided get pt's mean wall time), RMSE mean +- std over 4 seeds (mpp reached):\n")
+        print("| scene | pt spp = time | pt | mlt (mpp) | partitioned (mpp) | guided (mpp) "
+              "| guided / mlt | guided / pt | partitioned / mlt | s taken mlt / part. / guided "
+              "| guided start-up s |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
+        print("\n".join(rows))
     for scene, eq, m, p, q in per_scene:
         partitions_table(scene, eq, m, p, q)
 
@@ -233,32 +242,22 @@ def partitions_table(scene, eq, m, p, q):
 
 
 def timeline(folder, scene, size, a):
-    """From the RSS timeline and the progress bar's events: RSS (MiB) when the guides phase
-    begins, its peak during the guides, when the render phase begins, and the peak overall."""
+    """From the RSS timeline and the progress bar's events (MiB): the peak before the render
+    phase's first redraw (pre-pass, guides, chain set-up), the RSS at that redraw, and the peak
+    overall. The bar's redraws lag the phases by up to ~0.3 s (a redraw follows a report), so
+    only the first "render" redraw is used: by then pre-pass and guides are over."""
     base = f"{folder}/{scene}-{size}-{a}"
     try:
-        rows = [(float(r["seconds"]), float(r["rss_mib"])) for r in csv.DictReader(open(base + "-rss.csv"))]
+        rows = [(float(r["seconds"]), float(r["rss_mib"]))
+                for r in csv.DictReader(open(base + "-rss.csv"))]
         events = [l.rstrip("\n").split("\t", 1) for l in open(base + "-events.txt")]
     except FileNotFoundError:
         return None
-    def first(phase):
-        for t, line in events:
-            if line.lstrip().startswith(phase + " ") or line.lstrip().startswith(phase + "\t"):
-                return float(t)
-        return None
-    tg, tr = first("guides"), first("render")
-    tp = first("prepass")
+    tr = next((float(t) for t, line in events if line.lstrip().startswith("render ")), None)
     if tr is None:
         return None
-    def at(t):
-        before = [r for s, r in rows if s <= t]
-        return before[-1] if before else None
-    def peak(t0, t1):
-        v = [r for s, r in rows if t0 <= s <= t1]
-        return max(v) if v else None
-    start = tg if tg is not None else tr
-    return {"prepass_start": at(tp) if tp else None, "guides_start": at(start),
-            "guides_peak": peak(start, tr) if tg is not None else None, "render_start": at(tr),
+    before = [r for t, r in rows if t <= tr]
+    return {"before_peak": max(before), "render_start": before[-1],
             "peak": max(r for _, r in rows)}
 
 
@@ -296,18 +295,27 @@ def memory(folder):
                 if t:
                     tl_rows.append((scene, size, a, t))
     if tl_rows:
-        print("\nResident memory (MiB) of partita-local through the phases (bench/rss-timeline.py, "
-              "2 ms samples; previews every second):\n")
-        print("| scene | size | algorithm | at pre-pass start | at guides start | peak in guides "
-              "| guides' transient (peak - start) | at render start | kept from the guides "
-              "(render start - guides start) | peak overall |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("\nResident memory (MiB) of partita-local (bench/rss-timeline.py, 2 ms samples; "
+              "partita-local resolves a preview every second): the peak before the render phase "
+              "(pre-pass, guides, chain set-up), the RSS when the render phase begins, the peak "
+              "overall; guided's guides: what it keeps over partitioned when the chains start, "
+              "and its transient (its peak before the render over its RSS at the render's "
+              "start):\n")
+        print("| scene | size | partitioned: peak before render / at render start / peak "
+              "| guided: peak before render / at render start / peak | guided keeps over "
+              "partitioned | guides' transient |")
+        print("|---|---|---|---|---|---|")
+        by = {}
         for scene, size, a, t in tl_rows:
-            tr = ("-" if t["guides_peak"] is None else f"+{t['guides_peak'] - t['guides_start']:.0f}")
-            kept = f"{t['render_start'] - t['guides_start']:+.0f}"
+            by.setdefault((scene, size), {})[a] = t
+        for (scene, size), d in by.items():
+            p, q = d.get("partitioned"), d.get("guided")
+            if not p or not q:
+                continue
+            cell = lambda t: f"{t['before_peak']:.0f} / {t['render_start']:.0f} / {t['peak']:.0f}"
             print("| " + " | ".join([
-                scene, size, a, g(t["prepass_start"], 4), g(t["guides_start"], 4),
-                g(t["guides_peak"], 4), tr, g(t["render_start"], 4), kept, g(t["peak"], 4),
+                scene, size, cell(p), cell(q), f"{q['render_start'] - p['render_start']:+.0f}",
+                f"+{q['before_peak'] - q['render_start']:.0f}",
             ]) + " |")
 
 
