@@ -4,12 +4,14 @@ output (issue #13).
     bench/guided-study-table.py study [DIR]     (default build-bench/guided-study)
     bench/guided-study-table.py memory [DIR]    (default build-bench/guided-memory)
     bench/guided-study-table.py cost [DIR]      (default build-bench/guided-cost)
+    bench/guided-study-table.py complement [DIR] (default build-bench/guided-study)
 study: equal mutations per pixel (mlt, partitioned, guided; RMSE raw and with the reference's own
 error taken off: sqrt(RMSE^2 - ref^2) per seed), the sampling cost per mutation, acceptance per
 mutation type, equal time (pt, mlt, partitioned, guided), and per scene the partitions (P(i),
 b_i, acceptance, V' support, RMSE of mlt, partitioned and guided on each). memory: the peak
 increases at 1280x720 (cold and warm), guide_bytes and the guides' times, the resident memory
-through the guides phase. cost: CPU time per mutation by difference."""
+through the guides phase. cost: CPU time per mutation by difference. complement: mlt's error per
+type by the move guided uses there, and the complement's largest types."""
 import csv
 import glob
 import json
@@ -241,6 +243,50 @@ def partitions_table(scene, eq, m, p, q):
         ]) + " |")
 
 
+def guided_move(t):
+    """Which move replaces the lens perturbation on a path of type t (light-to-eye, e.g.
+    "LSDSE"): "guided" for E S* D followed by a D or the light (x_s and a connectable x_{s+1});
+    "lens" for E S* L (the guided move's fallback); "none" for E S* D S ... (x_{s+1} specular:
+    neither the lens perturbation nor the guided move applies, as in LensPerturbation::appliesTo)."""
+    rest = t[:-1].rstrip("S")  # drop E, then the camera-side specular chain
+    if rest.endswith("L"):
+        return "lens"
+    return "guided" if rest[:-1][-1:] in ("D", "L") else "none"
+
+
+def complement(folder):
+    """Per scene: mlt's error (its type layers at 32 mpp, mean over the seeds that kept each) by
+    the move that guided uses on the type, and the types outside guided's K that hold most of it."""
+    print("| scene | mlt's MSE in types where the guided move applies / lens fallback (E S* L) "
+          "/ neither (E S* D S ...) | the complement's largest types in mlt (share of mlt's MSE, "
+          "move) |")
+    print("|---|---|---|")
+    for scene in SCENES:
+        eq = load(f"{folder}/{scene}-mpp32.json")
+        if not eq:
+            continue
+        m, q = result(eq, "mlt"), result(eq, "guided")
+        ks = set()
+        for sd in q["per_seed"]:
+            ks |= {v for k, v in sd["labels"].items() if k.endswith("_type")}
+        total = m["rmse_mean"] ** 2
+        by = {"guided": 0.0, "lens": 0.0, "none": 0.0}
+        outside = []
+        for l in m["layers"]:
+            if l["layer"] in ("combined", "other"):
+                continue
+            share = l["rmse_mean"] ** 2 / total
+            by[guided_move(l["layer"])] += share
+            if l["layer"] not in ks:
+                outside.append((share, l["layer"], l["seeds"]))
+        outside.sort(reverse=True)
+        print("| " + " | ".join([
+            scene, " / ".join(f"{by[k]:.2f}" for k in ("guided", "lens", "none")),
+            ", ".join(f"{t} {sh:.2f} ({guided_move(t)}{'' if n == 4 else f', {n} seeds'})"
+                      for sh, t, n in outside[:5]),
+        ]) + " |")
+
+
 def timeline(folder, scene, size, a):
     """From the RSS timeline and the progress bar's events (MiB): the peak before the render
     phase's first redraw (pre-pass, guides, chain set-up), the RSS at that redraw, and the peak
@@ -356,5 +402,6 @@ def cost(folder):
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "study"
-    folder = sys.argv[2] if len(sys.argv) > 2 else f"build-bench/guided-{what}"
-    {"study": study, "memory": memory, "cost": cost}[what](folder)
+    default = "study" if what == "complement" else what
+    folder = sys.argv[2] if len(sys.argv) > 2 else f"build-bench/guided-{default}"
+    {"study": study, "memory": memory, "cost": cost, "complement": complement}[what](folder)
