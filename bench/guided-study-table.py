@@ -3,7 +3,7 @@
 output (issue #13).
     bench/guided-study-table.py study [DIR]     (default build-bench/guided-study)
     bench/guided-study-table.py memory [DIR]    (default build-bench/guided-memory)
-    bench/guided-study-table.py cost [DIR]      (default build-bench/guided-cost)
+    bench/guided-study-table.py cost [DIR[,DIR...]]  (default build-bench/guided-cost)
     bench/guided-study-table.py complement [DIR] (default build-bench/guided-study)
 study: equal mutations per pixel (mlt, partitioned, guided; RMSE raw and with the reference's own
 error taken off: sqrt(RMSE^2 - ref^2) per seed), the sampling cost per mutation, acceptance per
@@ -27,6 +27,7 @@ EQUAL_TIME_VARIANTS = {
     "equal-time": "pt's spp calibrated to mlt's 32-mpp wall time",
     "equal-time-guided": "calibrated to guided's 32-mpp wall time",
     "equal-time-x4": "calibrated to 4 x mlt's 32-mpp wall time",
+    "equal-time-x8": "calibrated to 8 x mlt's 32-mpp wall time",
 }
 
 
@@ -308,7 +309,7 @@ def timeline(folder, scene, size, a):
 
 
 def memory(folder):
-    print("| scene | mlt +MB cold, warm | partitioned +MB | guided +MB | guided - partitioned "
+    print("| scene | mlt +MB (cold, warm) | partitioned +MB (cold, warm) | guided +MB (cold, warm) | guided - partitioned "
           "| guided - mlt | guide_bytes MB | G-buffer s | denoise s | guide s | pre-pass s "
           "| guided job estimate MB |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -366,7 +367,11 @@ def memory(folder):
 
 
 def cost(folder):
-    rows = list(csv.DictReader(open(f"{folder}/cost.tsv"), delimiter="\t"))
+    rows = []
+    for i, f in enumerate(folder.split(",")):  # several folders: their rounds together
+        for r in csv.DictReader(open(f"{f}/cost.tsv"), delimiter="\t"):
+            r["round"] = f"{i}.{r['round']}"
+            rows.append(r)
     key = lambda r: (r["scene"], r["algorithm"], r["round"])
     by = {}
     for r in rows:
