@@ -12,7 +12,11 @@
 #     partitioned and guided get pt's mean wall time. Unless PT_SPP is given, it is chosen per
 #     scene as in partitioned-study.sh, so that pt takes about the time mlt took for MPP
 #     mutations per pixel in step 1: a one-seed pt render of CAL_SPP spp, times mlt's mean wall
-#     time over pt's, rounded (at least 1).
+#     time over pt's, rounded (at least 1). EQUAL_TIME_AT="mlt guided" also runs it at the time
+#     guided took for MPP mpp (OUT/<scene>-equal-time-guided.*), and an entry A*F at F times
+#     algorithm A's time (mlt*4: OUT/<scene>-equal-time-x4.*): the partitioned methods' fixed
+#     start-up (pre-pass, guides, 1024 burn-in mutations per chain: 21 mpp at 128x96) is then a
+#     smaller part of the budget.
 # REF_SPP (default 1024) is the references' budget; REF_SPPS="pool=8192 bathroom=4096" gives
 # some scenes more (a reference whose own error is close to the renders' compresses every ratio
 # toward 1; the harness prints the reference's own RMSE, bench/guided-study-table.py subtracts
@@ -21,7 +25,8 @@
 # OUT/<scene>-<run>.txt (and stdout), its figures to OUT/<scene>-<run>.json;
 # bench/guided-study-table.py turns those into bench/README's tables. A scene that fails does
 # not stop the others (the script exits 1 naming them at the end). Renders run under
-# `nice -n 10` (NICE= to change); never run two studies at once. EQUAL_TIME=0 skips step 2.
+# `nice -n 10` (NICE= to change); never run two studies at once. EQUAL_TIME=0 skips step 2;
+# REUSE=1 keeps an existing step-1 JSON (and pt calibration) instead of rendering them again.
 #   bench/guided-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4;
 #                            SCENES="cornell ..." picks scenes)
 set -eu
@@ -80,18 +85,33 @@ for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom po
         continue
     fi
     head -3 "$OUT/$scene-ref.txt"
-    quality "mpp$MPP" "$scene" --algorithms mlt,partitioned,guided --mpp "$MPP" --seeds "$SEEDS" ||
-        continue
-    [ "${EQUAL_TIME:-1}" = 1 ] || continue
-    spp=${PT_SPP:-}
-    if [ -z "$spp" ]; then
-        quality pt-calibration "$scene" --algorithms pt --spp "$CAL_SPP" --seeds 1 >/dev/null || continue
-        mlt=$(json_field "$OUT/$scene-mpp$MPP.json" mlt seconds_mean)
-        pt=$(json_field "$OUT/$scene-pt-calibration.json" pt seconds_mean)
-        spp=$(python3 -c "import sys; print(max(1, round($CAL_SPP * $mlt / $pt)))")
-        echo "$scene: pt at $spp spp (pt $CAL_SPP spp took $pt s, mlt $MPP mpp $mlt s)" >&2
+    if [ "${REUSE:-0}" = 1 ] && [ -f "$OUT/$scene-mpp$MPP.json" ]; then
+        echo "== $scene mpp$MPP: reusing $OUT/$scene-mpp$MPP.json" >&2
+    else
+        quality "mpp$MPP" "$scene" --algorithms mlt,partitioned,guided --mpp "$MPP" --seeds "$SEEDS" ||
+            continue
     fi
-    quality equal-time "$scene" --algorithms pt,mlt,partitioned,guided --spp "$spp" \
-        --seeds "$SEEDS" --equal-time || continue
+    [ "${EQUAL_TIME:-1}" = 1 ] || continue
+    if [ -z "${PT_SPP:-}" ] && ! { [ "${REUSE:-0}" = 1 ] && [ -f "$OUT/$scene-pt-calibration.json" ]; }; then
+        quality pt-calibration "$scene" --algorithms pt --spp "$CAL_SPP" --seeds 1 >/dev/null || continue
+    fi
+    for at in ${EQUAL_TIME_AT:-mlt}; do
+        # ALGORITHM or ALGORITHM*FACTOR: pt gets FACTOR times that algorithm's 32-mpp time.
+        algorithm=${at%%\**}
+        factor=1
+        [ "$algorithm" = "$at" ] || factor=${at#*\*}
+        name=equal-time
+        [ "$algorithm" = mlt ] || name=equal-time-$algorithm
+        [ "$factor" = 1 ] || name=$name-x$factor
+        spp=${PT_SPP:-}
+        if [ -z "$spp" ]; then
+            mine=$(json_field "$OUT/$scene-mpp$MPP.json" "$algorithm" seconds_mean)
+            pt=$(json_field "$OUT/$scene-pt-calibration.json" pt seconds_mean)
+            spp=$(python3 -c "import sys; print(max(1, round($CAL_SPP * $factor * $mine / $pt)))")
+            echo "$scene: pt at $spp spp (pt $CAL_SPP spp took $pt s, $algorithm $MPP mpp $mine s, x $factor)" >&2
+        fi
+        quality "$name" "$scene" --algorithms pt,mlt,partitioned,guided --spp "$spp" \
+            --seeds "$SEEDS" --equal-time || continue
+    done
 done
 [ -z "$failed" ] || { echo "guided-study: failed:$failed" >&2; exit 1; }
