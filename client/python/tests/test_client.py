@@ -272,7 +272,8 @@ class ClientTest(unittest.TestCase):
             cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell-glass", "--algorithm",
                    "guided", "--param1", "radius=2,10", "--param2", "y=8,32", "--seeds", "2",
                    "--set", "width=16", "--set", "height=12", "--set", "mpp=2",
-                   "--reference-spp", "8", "--out-dir", str(out), "-q"]
+                   "--reference-spp", "8", "--reference-algorithm", "bdpt", "--out-dir",
+                   str(out), "-q"]
             proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
             self.assertEqual(proc.returncode, 0, proc.stderr)
             with open(out / "sweep.csv") as f:
@@ -303,6 +304,8 @@ class ClientTest(unittest.TestCase):
                 self.assertEqual(r["jobs"].split(), [x["job"] for x in runs[2 * k:2 * k + 2]])
             for png in ("grid.png", "rmse.png"):
                 self.assertTrue((out / png).read_bytes().startswith(b"\x89PNG"), png)
+            ref = json.loads((out / "reference.json").read_text())
+            self.assertEqual((ref["algorithm"], ref["parameters"]["width"]), ("bdpt", 16))
             for seed in (1, 2):
                 exr = out / "renders" / f"radius=10_y=32_seed={seed}.exr"
                 params = json.loads(exr.with_suffix(".json").read_text())["parameters"]
