@@ -32,8 +32,17 @@ struct RenderSettings {
 
     // Method parameters (paper Section 4-5); ignored by algorithms that do not use them.
     int partitions = 10;         // K
+    // |Y'|, R and epsilon: chosen with the |Y'| x R study and the epsilon sweep of bench/README.md,
+    // "guided: the |Y'| x R study (issue #13 item 6)" (cornell-glass and bathroom, 32 mpp, RMSE
+    // ratios paired by seed). |Y'| = 128, the paper's: 32 and 512 tie with it within about two
+    // standard errors, 8 loses 1..47% and shows structured noise. R = 20: at 128x96 (12 seeds)
+    // R = 5..40 tie within 1.5% and R = 2 loses 5..12%; at 256x192 (4 seeds) R = 5 loses 2..4%,
+    // R = 20 ties with 10 on cornell-glass and beats it on bathroom (0.92x): the good range moves
+    // up with the image, so much wider images may want a larger R. epsilon (relative to D_i's
+    // mean, image_guide.h): 0.001..0.1 tie within 0.5% on cornell-glass (3% on bathroom, within
+    // its noise); 0.01 is the middle of that flat range.
     int guideCandidates = 128;   // |Y'|
-    float guideRadius = 10;      // R, pixels
+    float guideRadius = 20;      // R, pixels
     float guideEpsilon = 0.01f;  // epsilon of Eq. 17
     /// Samples of the MCMC methods' start-up (mlt's BDPT bootstrap, partitioned's pre-pass);
     /// 0: the algorithm's default.

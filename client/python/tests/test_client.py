@@ -8,6 +8,7 @@ Run: PYTHONPATH=<build>/python:client/python PARTITA_PARTITAD=<build>/server/par
 from __future__ import annotations
 
 import csv
+import json
 import os
 import subprocess
 import sys
@@ -260,6 +261,65 @@ class ClientTest(unittest.TestCase):
             ref = read_exr(out / "reference.exr").layers()["combined"]
             self.assertEqual(ref.shape, (24, 32, 3))
             self.assertTrue((out / "renders" / "spp=2_max-depth=3.exr").is_file())
+
+    def test_sweep_script_guided_grid_with_seeds_through_a_private_daemon(self):
+        # The Figure 8 study in miniature: rows R, columns |Y'|, two seeds a point, no --server.
+        import sweep
+        self.assertEqual(sweep.parse_axis(sweep.DEFAULT_ROWS)[0], "radius")
+        self.assertEqual(sweep.parse_axis(sweep.DEFAULT_COLUMNS)[0], "y")
+        with tempfile.TemporaryDirectory() as d:
+            out = Path(d) / "sweep"
+            cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell-glass", "--algorithm",
+                   "guided", "--param1", "radius=2,10", "--param2", "y=8,32", "--seeds", "2",
+                   "--set", "width=16", "--set", "height=12", "--set", "mpp=2",
+                   "--reference-spp", "8", "--reference-algorithm", "bdpt", "--out-dir",
+                   str(out), "-q"]
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            with open(out / "sweep.csv") as f:
+                reader = csv.DictReader(f)
+                rows = list(reader)
+            self.assertEqual(reader.fieldnames,
+                             ["radius", "y", "algorithm", "seeds", "rmse", "rmse_std", "rmse_se",
+                              "relmse", "relmse_std", "relmse_se", "seconds", "jobs", "state"])
+            self.assertEqual([(r["radius"], r["y"]) for r in rows],
+                             [("2", "8"), ("2", "32"), ("10", "8"), ("10", "32")])
+            with open(out / "runs.csv") as f:
+                runs = list(csv.DictReader(f))
+            self.assertEqual([(r["radius"], r["y"], r["seed"]) for r in runs],
+                             [(a, b, s) for a, b in (("2", "8"), ("2", "32"), ("10", "8"),
+                                                     ("10", "32")) for s in ("1", "2")])
+            for k, r in enumerate(rows):
+                self.assertEqual(r["state"], "done")
+                self.assertEqual(r["algorithm"], "guided")
+                self.assertEqual(r["seeds"], "2")
+                per_seed = [float(x["rmse"]) for x in runs[2 * k:2 * k + 2]]
+                self.assertEqual(len(set(per_seed)), 2, "two seeds, two different images")
+                self.assertAlmostEqual(float(r["rmse"]), np.mean(per_seed), places=6)
+                self.assertAlmostEqual(float(r["rmse_std"]), np.std(per_seed, ddof=1), places=6)
+                self.assertAlmostEqual(float(r["rmse_se"]), float(r["rmse_std"]) / np.sqrt(2),
+                                       places=6)
+                self.assertGreater(float(r["relmse"]), 0.0)
+                self.assertGreaterEqual(float(r["seconds"]), 0.0)
+                self.assertEqual(r["jobs"].split(), [x["job"] for x in runs[2 * k:2 * k + 2]])
+            for png in ("grid.png", "rmse.png"):
+                self.assertTrue((out / png).read_bytes().startswith(b"\x89PNG"), png)
+            ref = json.loads((out / "reference.json").read_text())
+            self.assertEqual((ref["algorithm"], ref["parameters"]["width"]), ("bdpt", 16))
+            for seed in (1, 2):
+                exr = out / "renders" / f"radius=10_y=32_seed={seed}.exr"
+                params = json.loads(exr.with_suffix(".json").read_text())["parameters"]
+                self.assertEqual((params["radius"], params["y"], params["seed"]), (10.0, 32, seed))
+                self.assertEqual(read_exr(exr).layers()["combined"].shape, (12, 16, 3))
+
+    def test_sweep_script_refuses_seeds_with_a_seed_axis(self):
+        for extra in (["--param2", "seed=1,2", "--seeds", "2"], ["--seeds", "0"]):
+            cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",
+                   self.daemon.address, "--param1", "radius=5", "--reference-spp", "4", *extra]
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+            self.assertNotEqual(proc.returncode, 0, extra)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+            self.assertIn("--seeds", proc.stderr)
 
     def test_sweep_script_refuses_parameters_the_algorithm_ignores(self):
         cmd = [sys.executable, str(CLIENT_DIR / "sweep.py"), "cornell", "--server",
