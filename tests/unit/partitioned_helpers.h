@@ -40,12 +40,6 @@ inline RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind
     st.maxDepth = kMaxDepth;
     st.previewIntervalSeconds = 0;
     st.maxTypeLayers = 1024;
-    // guided's R is in pixels and its good range grows with the image (bench/README.md, "guided:
-    // the |Y'| x R study"); the default (20, for images of 128 pixels and more) reaches past the
-    // edges of this 16x12 image. These tests were validated at R = 10; at R = 20 and 64 mpp
-    // door-ajar's LDDE in one block came out 1.1 x the tolerance low (it passes at 256 mpp, and
-    // at R = 5 and 40: most likely under-coverage at this budget rather than a bias; see there).
-    st.guideRadius = 10;
     return st;
 }
 
