@@ -27,6 +27,8 @@
 # not stop the others (the script exits 1 naming them at the end). Renders run under
 # `nice -n 10` (NICE= to change); never run two studies at once. EQUAL_TIME=0 skips step 2;
 # REUSE=1 keeps an existing step-1 JSON (and pt calibration) instead of rendering them again.
+# ALGORITHMS (default mlt,partitioned,guided) are the MCMC methods compared; partitioned-study.sh
+# runs this script with mlt,partitioned.
 #   bench/guided-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4;
 #                            SCENES="cornell ..." picks scenes)
 set -eu
@@ -41,6 +43,7 @@ SEEDS=${SEEDS:-4}
 CAL_SPP=${CAL_SPP:-64}
 LAYERS=${LAYERS:-64}
 NICE=${NICE-nice -n 10}
+ALGORITHMS=${ALGORITHMS:-mlt,partitioned,guided}
 OUT=${OUT:-build-bench/guided-study}
 mkdir -p "$OUT"
 failed=
@@ -88,7 +91,7 @@ for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom po
     if [ "${REUSE:-0}" = 1 ] && [ -f "$OUT/$scene-mpp$MPP.json" ]; then
         echo "== $scene mpp$MPP: reusing $OUT/$scene-mpp$MPP.json" >&2
     else
-        quality "mpp$MPP" "$scene" --algorithms mlt,partitioned,guided --mpp "$MPP" --seeds "$SEEDS" ||
+        quality "mpp$MPP" "$scene" --algorithms "$ALGORITHMS" --mpp "$MPP" --seeds "$SEEDS" ||
             continue
     fi
     [ "${EQUAL_TIME:-1}" = 1 ] || continue
@@ -110,8 +113,8 @@ for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom po
             spp=$(python3 -c "import sys; print(max(1, round($CAL_SPP * $factor * $mine / $pt)))")
             echo "$scene: pt at $spp spp (pt $CAL_SPP spp took $pt s, $algorithm $MPP mpp $mine s, x $factor)" >&2
         fi
-        quality "$name" "$scene" --algorithms pt,mlt,partitioned,guided --spp "$spp" \
+        quality "$name" "$scene" --algorithms "pt,$ALGORITHMS" --spp "$spp" \
             --seeds "$SEEDS" --equal-time || continue
     done
 done
-[ -z "$failed" ] || { echo "guided-study: failed:$failed" >&2; exit 1; }
+[ -z "$failed" ] || { echo "$(basename "$0"): failed:$failed" >&2; exit 1; }

@@ -10,37 +10,10 @@ import json
 import os
 import sys
 
-SCENES = ["cornell", "cornell-glass", "cornell-point", "door-ajar", "bathroom", "pool"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from study_json import SCENES, g, load, pm, result, stat_mean, units  # noqa: E402
+
 MIB = 1 << 20
-
-
-def g(x, digits=3):
-    return "-" if x is None else f"{x:.{digits}g}"
-
-
-def pm(mean, std, digits=3):
-    return f"{g(mean, digits)} +- {g(std, 2)}"
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except FileNotFoundError:
-        return None
-
-
-def result(j, algorithm, index=0):
-    found = [r for r in j["results"] if r["algorithm"] == algorithm]
-    return found[index] if len(found) > index else None
-
-
-def stat_mean(r, key):
-    return r["statistics_mean"].get(key)
-
-
-def units(r):
-    return int(r["units_per_pixel_mean"] + 0.5)
 
 
 def study(folder):

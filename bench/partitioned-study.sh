@@ -1,78 +1,12 @@
 #!/bin/sh
-# partitioned against mlt and pt on every shipped scene (issue #12): a BDPT reference per scene
-# with every type layer (the cache that bdpt-study.sh, mlt-study.sh and make-references.sh
-# share), then
-#  1. `quality --algorithms mlt,partitioned --mpp MPP`: equal mutations per pixel, with the same
-#     start-up budget (--bootstrap BOOTSTRAP: mlt's BDPT bootstrap samples and partitioned's
-#     pre-pass samples are both RenderSettings::bootstrapSamples, default 100000 for both);
-#  2. `quality --algorithms pt,mlt,partitioned --spp PT_SPP --equal-time`: mlt and partitioned
-#     get pt's mean wall time. Unless PT_SPP is given, it is chosen per scene so that pt takes
-#     about the time mlt took for MPP mutations per pixel in step 1: a one-seed pt render of
-#     CAL_SPP spp times mlt's mean wall time over pt's, rounded (at least 1).
-# SEEDS seeds each; the renders keep LAYERS type layers (default 64, twice the film's default, so
-# that mlt's and pt's films keep partitioned's K types apart from "other" and can be measured on
-# its partitions too; 64 layers at 128x96 are 9 MB an image). Every run's table goes to OUT/<scene>-<run>.txt (and stdout), its figures to
-# OUT/<scene>-<run>.json; bench/partitioned-study-table.py turns those into bench/README's tables.
-# A scene that fails does not stop the others (the script exits 1 naming them at the end).
-# Renders run under `nice -n 10` (NICE= to change); never run two studies at once.
-#   bench/partitioned-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4;
-#                                 SCENES="cornell ..." picks scenes)
+# partitioned against mlt and pt on every shipped scene (issue #12): guided-study.sh with
+# ALGORITHMS=mlt,partitioned, its outputs in build-bench/partitioned-study (OUT= to change):
+# a BDPT reference per scene with every type layer, then `quality` at MPP mutations per pixel
+# with the same start-up budget for both, and at equal time with pt (pt's spp calibrated to
+# mlt's time). bench/partitioned-study-table.py turns the JSON into bench/README's tables. Every
+# variable of guided-study.sh applies (SIZE, REF_SPP, MPP, BOOTSTRAP, SEEDS, SCENES, ...).
+#   bench/partitioned-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4)
 set -eu
 cd "$(dirname "$0")/.."
-EVAL=${PARTITA_EVAL:-build-bench/bench/partita-eval}
-SIZE=${SIZE:-128x96}
-W=${SIZE%x*}
-H=${SIZE#*x}
-MPP=${MPP:-32}
-BOOTSTRAP=${BOOTSTRAP:-100000}
-SEEDS=${SEEDS:-4}
-CAL_SPP=${CAL_SPP:-64}
-LAYERS=${LAYERS:-64}
-NICE=${NICE-nice -n 10}
-OUT=${OUT:-build-bench/partitioned-study}
-mkdir -p "$OUT"
-failed=
-
-# quality NAME SCENE ARGS...: one `quality` run, its table to OUT/SCENE-NAME.txt and stdout.
-quality() {
-    name=$1
-    scene=$2
-    shift 2
-    echo "== $scene $name" >&2
-    if $NICE "$EVAL" quality --scene "scenes/$scene/$scene.gltf" --reference "$OUT/$scene-ref.exr" \
-        --bootstrap "$BOOTSTRAP" --layers "$LAYERS" --quiet --json "$OUT/$scene-$name.json" "$@" \
-        >"$OUT/$scene-$name.txt"; then
-        cat "$OUT/$scene-$name.txt"
-    else
-        failed="$failed $scene:$name"
-        return 1
-    fi
-}
-
-# json_field FILE ALGORITHM FIELD: a figure of one algorithm's result in a quality JSON file.
-json_field() {
-    python3 -c 'import json, sys
-j = json.load(open(sys.argv[1]))
-print(next(r[sys.argv[3]] for r in j["results"] if r["algorithm"] == sys.argv[2]))' "$@"
-}
-
-for scene in ${SCENES:-cornell cornell-glass cornell-point door-ajar bathroom pool}; do
-    if ! $NICE "$EVAL" reference --scene "scenes/$scene/$scene.gltf" --algorithm bdpt \
-        --spp "${REF_SPP:-1024}" --width "$W" --height "$H" --layers 1024 --quiet \
-        --out "$OUT/$scene-ref.exr"; then
-        failed="$failed $scene:reference"
-        continue
-    fi
-    quality "mpp$MPP" "$scene" --algorithms mlt,partitioned --mpp "$MPP" --seeds "$SEEDS" || continue
-    spp=${PT_SPP:-}
-    if [ -z "$spp" ]; then
-        quality pt-calibration "$scene" --algorithms pt --spp "$CAL_SPP" --seeds 1 >/dev/null || continue
-        mlt=$(json_field "$OUT/$scene-mpp$MPP.json" mlt seconds_mean)
-        pt=$(json_field "$OUT/$scene-pt-calibration.json" pt seconds_mean)
-        spp=$(python3 -c "import sys; print(max(1, round($CAL_SPP * $mlt / $pt)))")
-        echo "$scene: pt at $spp spp (pt $CAL_SPP spp took $pt s, mlt $MPP mpp $mlt s)" >&2
-    fi
-    quality equal-time "$scene" --algorithms pt,mlt,partitioned --spp "$spp" --seeds "$SEEDS" \
-        --equal-time || continue
-done
-[ -z "$failed" ] || { echo "partitioned-study: failed:$failed" >&2; exit 1; }
+ALGORITHMS=${ALGORITHMS:-mlt,partitioned} OUT=${OUT:-build-bench/partitioned-study} \
+    exec bench/guided-study.sh
