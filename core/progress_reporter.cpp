@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-namespace partita {
+#include "clock.h"
 
-using Clock = std::chrono::steady_clock;
+namespace partita {
 
 ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, std::string unit,
                                    double total, double timeBudgetSeconds,
@@ -23,7 +23,7 @@ ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, 
 }
 
 double ProgressReporter::elapsedSeconds() const {
-    return std::chrono::duration<double>(Clock::now() - start_).count();
+    return secondsSince(start_);
 }
 
 double ProgressReporter::done() const {

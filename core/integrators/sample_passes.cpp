@@ -1,20 +1,14 @@
 #include "integrators/sample_passes.h"
 
 #include <algorithm>
-#include <chrono>
 #include <ctime>
 
+#include "clock.h"
 #include "progress_reporter.h"
 
 namespace partita {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 class SamplePassLoop {
   public:

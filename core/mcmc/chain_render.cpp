@@ -1,23 +1,13 @@
 #include "mcmc/chain_render.h"
 
 #include <algorithm>
-#include <chrono>
 
+#include "clock.h"
 #include "path/path.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
 
 namespace partita {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-}  // namespace
 
 void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
                            double startupSeconds,

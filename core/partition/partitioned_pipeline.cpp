@@ -1,10 +1,10 @@
 #include "partition/partitioned_pipeline.h"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 
 #include "camera.h"
+#include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "progress_reporter.h"
@@ -17,12 +17,6 @@ namespace {
 
 constexpr uint64_t kResampleStream = 0x50525350ull;        // "PRSP"
 constexpr uint64_t kChainStreams = 0x5041525443ull << 24;  // "PARTC"
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 /// Half B's candidates that belong to partition p.
 std::vector<BootstrapCandidate> candidatesOf(const PrepassResult& prepass, const Partition& p) {

@@ -1,8 +1,8 @@
 #include "integrators/guided/guided_integrator.h"
 
-#include <chrono>
 #include <memory>
 
+#include "clock.h"
 #include "guide/denoise.h"
 #include "guide/gbuffer.h"
 #include "guide/guided_perturbation.h"
@@ -25,15 +25,11 @@ struct Guides {
     std::vector<PixelOffset> delta;
 };
 
-double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResult& prepass,
                                     const std::vector<Partition>& partitions,
                                     const DenoiseSettings& denoise, RenderStats& stats) {
     const RenderSettings& rs = ctx.settings;
-    auto start = std::chrono::steady_clock::now();
+    auto start = Clock::now();
     // Its own phase, after "prepass" (the job stays in PREPASS): G-buffer, denoise, thresholds.
     ProgressReporter progress(ctx.observer, "guides", "steps", 3);
     auto guides = std::make_shared<Guides>();

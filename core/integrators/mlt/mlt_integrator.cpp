@@ -1,10 +1,10 @@
 #include "integrators/mlt/mlt_integrator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 
 #include "camera.h"
+#include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
@@ -20,12 +20,6 @@ namespace {
 constexpr uint64_t kBootstrapBlock = 256;
 constexpr uint64_t kResampleStream = 0x52534d50ull;        // "RSMP"
 constexpr uint64_t kChainStreams = 0x434841494eull << 24;  // "CHAIN"
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 }  // namespace
 
