@@ -26,7 +26,7 @@ namespace partita {
 class Camera;
 class RenderScene;
 
-/// 40 bytes.
+/// One start-up path as a record of 40 bytes (static_assert in bootstrap.cpp).
 struct BootstrapCandidate {
     uint64_t sample = 0;
     uint16_t s = 0, t = 0;
@@ -55,8 +55,6 @@ class BootstrapSampler {
     bool regenerate(const BootstrapCandidate& candidate, MarkovPath& out, uint64_t& rays) const;
 
   private:
-    /// Runs sample `index`'s strategies in order; visit(s, t, sample, connector) for each valid
-    /// one, stopping when visit returns false.
     /// Runs sample `index`'s strategies in order; visit(s, t, sample, connector, raster) for
     /// each valid one (raster: the camera ray's), stopping when visit returns false.
     template <typename Visit>

@@ -42,14 +42,14 @@ std::vector<Partition> makePartitions(const PrepassResult& prepass, int k,
     complement.label = kComplementLabel;
     complement.complement = true;
     for (const auto& [type, gamma] : ranked) {
-        if (int(out.size()) < k && gamma > 0 && sumB(type) > 0 &&
-            bError(type) <= maxRelativeError) {
+        double error = bError(type);  // infinite without a half-B path
+        if (int(out.size()) < k && gamma > 0 && error <= maxRelativeError) {
             Partition p;
             p.label = type.toString();
             p.types = {type};
             p.gamma = gamma;
             p.b = sumB(type) / nB;
-            p.bError = bError(type);
+            p.bError = error;
             out.push_back(p);
             complement.types.push_back(type);  // what the complement excludes
         } else {

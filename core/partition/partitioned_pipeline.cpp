@@ -84,6 +84,16 @@ LayeredImage resolvePartitions(const ChainRunner& runner, const std::vector<Part
     return out;
 }
 
+/// Accepted over proposed over all the mutations of partition g's chains so far (0 before any).
+double acceptanceOf(const ChainRunner& runner, size_t g) {
+    uint64_t proposed = 0, accepted = 0;
+    for (const auto& [name, m] : runner.mutationStats(int(g))) {
+        proposed += m.proposed;
+        accepted += m.accepted;
+    }
+    return proposed ? double(accepted) / double(proposed) : 0;
+}
+
 void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions,
                        const ChainRunner& runner) {
     st.values["partitions"] = double(partitions.size());
@@ -96,12 +106,7 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         st.values[key + "b"] = p.b;
         if (!p.complement) st.values[key + "b_error"] = p.bError;
         st.values[key + "mutations"] = double(runner.mutationsDone(int(g)));
-        uint64_t proposed = 0, accepted = 0;
-        for (const auto& [name, m] : runner.mutationStats(int(g))) {
-            proposed += m.proposed;
-            accepted += m.accepted;
-        }
-        st.values[key + "acceptance"] = proposed ? double(accepted) / double(proposed) : 0;
+        st.values[key + "acceptance"] = acceptanceOf(runner, g);
     }
 }
 
@@ -116,18 +121,19 @@ std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& p
         pp.p = partitions[g].p;
         pp.b = partitions[g].b;
         pp.gamma = partitions[g].gamma;
-        uint64_t proposed = 0, accepted = 0;
-        for (const auto& [name, m] : runner.mutationStats(int(g))) {
-            proposed += m.proposed;
-            accepted += m.accepted;
-        }
-        pp.acceptance = proposed ? double(accepted) / double(proposed) : 0;
+        pp.acceptance = acceptanceOf(runner, g);
         out.push_back(std::move(pp));
     }
     return out;
 }
 
 }  // namespace
+
+VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
+                                                const Partition& partition) {
+    if (!partition.complement) base.bidirectional.additionWeights = {1.0, 0.0};
+    return base;
+}
 
 RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,
                                const std::string& algorithm,

@@ -15,6 +15,7 @@
 
 #include "algorithm.h"
 #include "mcmc/chain_runner.h"
+#include "mcmc/veach_mutations.h"
 #include "partition/partition.h"
 #include "partition/prepass.h"
 
@@ -33,6 +34,12 @@ struct PartitionPipelineSettings {
 /// mutations; it may add its own statistics to `stats` (they go into the result's).
 using PartitionMutationHook = std::function<ChainRunner::MutationFactory(
     const PrepassResult& prepass, const std::vector<Partition>& partitions, RenderStats& stats)>;
+
+/// Veach's mutation settings for the chains of `partition`: those of a one-type partition try
+/// only bidirectional mutations that keep the path's length (another length is another type,
+/// always rejected); the complement's keep `base`.
+VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
+                                                const Partition& partition);
 
 /// Renders ctx's job with the partitioned chains; `algorithm` names it in errors.
 RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,

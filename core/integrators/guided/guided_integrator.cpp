@@ -72,8 +72,8 @@ RenderResult GuidedAlgorithm::render(const RenderContext& ctx) {
         std::shared_ptr<Guides> guides =
             buildGuides(ctx, prepass, partitions, settings_.denoise, stats);
         return [&, guides, partitions](uint32_t group) {
-            VeachMutationSettings m = settings_.mutations;
-            if (!partitions[group].complement) m.bidirectional.additionWeights = {1.0, 0.0};
+            VeachMutationSettings m =
+                partitionMutationSettings(settings_.mutations, partitions[group]);
             auto guided = std::make_unique<GuidedPerturbation>(
                 ctx.scene, ctx.camera, guides->perPartition[group], guides->delta,
                 lensPixelRange(ctx.camera, m));

@@ -9,9 +9,9 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
     auto hook = [&](const PrepassResult&, const std::vector<Partition>& partitions,
                     RenderStats&) -> ChainRunner::MutationFactory {
         return [&, partitions](uint32_t group) {
-            VeachMutationSettings m = settings_.mutations;
-            if (!partitions[group].complement) m.bidirectional.additionWeights = {1.0, 0.0};
-            return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
+            return makeVeachMutations(
+                ctx.scene, ctx.camera, ctx.settings.maxDepth,
+                partitionMutationSettings(settings_.mutations, partitions[group]));
         };
     };
     return renderPartitioned(ctx, settings_, "partitioned", hook);
