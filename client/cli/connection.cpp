@@ -45,6 +45,12 @@ std::string withDefaultPort(const std::string& address) {
     return out;
 }
 
+std::string loopbackForLocalhost(const std::string& address) {
+    const std::string host = "localhost:";
+    if (address.rfind(host, 0) != 0) return address;
+    return "127.0.0.1:" + address.substr(host.size());
+}
+
 std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts) {
     grpc::ChannelArguments args;
     // Retry a refused connection quickly while waiting for a daemon that is starting.
@@ -62,12 +68,16 @@ std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const Ser
         } catch (const std::exception&) {
             throw CliError("cannot read TLS CA file '" + opts.tlsCa + "'");
         }
-        if (!opts.tlsServerName.empty()) args.SetSslTargetNameOverride(opts.tlsServerName);
+        if (!opts.tlsServerName.empty()) {
+            args.SetSslTargetNameOverride(opts.tlsServerName);
+        } else if (loopbackForLocalhost(address) != address) {
+            args.SetSslTargetNameOverride("localhost");  // the name the user dialled
+        }
         creds = grpc::SslCredentials(ssl);
     } else {
         creds = grpc::InsecureChannelCredentials();
     }
-    return grpc::CreateCustomChannel(address, creds, args);
+    return grpc::CreateCustomChannel(loopbackForLocalhost(address), creds, args);
 }
 
 Connection::Connection(const std::string& address, const ServerOptions& opts)

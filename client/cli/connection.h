@@ -32,6 +32,12 @@ constexpr int kDefaultPort = 50051;
 /// are (without this, gRPC dials "localhost" on port 443).
 std::string withDefaultPort(const std::string& address);
 
+/// "localhost:PORT" becomes "127.0.0.1:PORT" (RFC 6761: localhost is the loopback), anything
+/// else stays. gRPC's default resolver (c-ares) asks DNS servers for "localhost" when /etc/hosts
+/// lacks it, as in a minimal container, and fails where there are none; partitad listens on
+/// 127.0.0.1 by default. With TLS the certificate is still checked for "localhost".
+std::string loopbackForLocalhost(const std::string& address);
+
 std::shared_ptr<grpc::Channel> makeChannel(const std::string& address, const ServerOptions& opts);
 
 class Connection {

@@ -89,6 +89,16 @@ TEST(Connection, HostWithoutPortGetsTheDaemonsDefaultPort) {
     EXPECT_EQ(withDefaultPort("unix:/tmp/s"), "unix:/tmp/s");
 }
 
+// A minimal container has no "localhost" in /etc/hosts and no DNS server: the dialled target
+// must not need a resolver.
+TEST(Connection, LocalhostIsDialledAsTheIpv4Loopback) {
+    EXPECT_EQ(loopbackForLocalhost("localhost:50051"), "127.0.0.1:50051");
+    EXPECT_EQ(loopbackForLocalhost("localhost:7"), "127.0.0.1:7");
+    EXPECT_EQ(loopbackForLocalhost("localhostx:7"), "localhostx:7");
+    EXPECT_EQ(loopbackForLocalhost("render1.example:7"), "render1.example:7");
+    EXPECT_EQ(loopbackForLocalhost("dns:localhost:7"), "dns:localhost:7");
+}
+
 TEST(Table, CountsPrintAsPlainNumbers) {
     EXPECT_EQ(formatCount(1048576), "1048576");
     EXPECT_EQ(formatCount(65536), "65536");

@@ -41,6 +41,14 @@ _RESULT_KINDS = {
 }
 
 
+def _loopback_for_localhost(address: str) -> str:
+    """"localhost:PORT" -> "127.0.0.1:PORT" (RFC 6761). gRPC's c-ares resolver asks DNS servers
+    for "localhost" when /etc/hosts lacks it (a minimal container) and fails where there are
+    none; partitad listens on 127.0.0.1 by default."""
+    prefix = "localhost:"
+    return "127.0.0.1:" + address[len(prefix):] if address.startswith(prefix) else address
+
+
 def job_spec(scene, **params) -> "pb2.JobSpec":
     """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job parameters:
     algorithm, spp | mpp | seconds, width, height, camera, seed, max_depth, k, y, radius,
@@ -112,13 +120,16 @@ class Client:
         self.timeout = timeout
         options = [("grpc.max_receive_message_length", -1),
                    ("grpc.max_send_message_length", -1)]
+        target = _loopback_for_localhost(address)
         if tls_ca is not None:
+            if not tls_server_name and target != address:
+                tls_server_name = "localhost"  # the name the caller dialled
             if tls_server_name:
                 options.append(("grpc.ssl_target_name_override", tls_server_name))
             creds = grpc.ssl_channel_credentials(root_certificates=Path(tls_ca).read_bytes())
-            self._channel = grpc.secure_channel(address, creds, options=options)
+            self._channel = grpc.secure_channel(target, creds, options=options)
         else:
-            self._channel = grpc.insecure_channel(address, options=options)
+            self._channel = grpc.insecure_channel(target, options=options)
         self._stub = pb2_grpc.PartitaStub(self._channel)
 
     # --- plumbing -------------------------------------------------------------------------
