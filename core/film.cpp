@@ -9,21 +9,34 @@
 // and a full tile buffer per (tile, type) cost hundreds of megabytes, and the page faults of
 // touching them cost a tenth of the render time.
 //
-// Determinism: nothing in resolve/merge/typeCount depends on the order in which types were
-// first seen in a tile (that order depends on thread scheduling). Type totals are summed over
-// tiles in tile order and over pixels in pixel order, in double; the "other" layer adds its
-// types in PathType order. What remains order dependent is only the float sum inside one pixel
-// of one buffer, i.e. the order in which the caller added samples to that pixel.
+// Exact sums: a pixel's sums are 64-bit fixed-point integers (Film::kFixedPointBits fraction
+// bits). Every sample is rounded once, on its own, to that grid, and integers add exactly, so a
+// sum does not depend on the order or the grouping of its additions: a film rendered in one
+// process and the merge of any number of shards that rendered parts of it (shard/) hold the
+// same bits, and so do films merged in any order. Floats could not do this (a float sum of the
+// same samples differs with how they are grouped). The grid step, 2^-28 = 3.7e-9, is below
+// anything an image shows; the range, +-2^35 = 3.4e10 per pixel sum, is above what the render
+// limits allow (render_settings.h). The arithmetic is modulo 2^64 (unsigned), so even a
+// partial sum that leaves the range does not change the final one; a single sample larger than
+// kMaxSampleValue is dropped and counted like a non-finite one.
+//
+// Determinism otherwise: nothing in resolve/merge/typeCount depends on the order in which types
+// were first seen in a tile (that order depends on thread scheduling). Type totals are summed
+// over tiles in tile order and over pixels in pixel order, in double; the "other" layer adds
+// its types in PathType order.
 #include "film.h"
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
 
+#include "byte_stream.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -31,7 +44,27 @@ namespace partita {
 namespace {
 
 constexpr int kTilePixels = Film::kTileSize * Film::kTileSize;
-using TilePixels = std::array<Rgb, kTilePixels>;
+
+/// One pixel's RGB sums in fixed point (see the top of the file).
+struct FixedRgb {
+    std::array<uint64_t, 3> c{};
+
+    static uint64_t toFixed(float v) {
+        return uint64_t(std::llrint(double(v) * double(uint64_t(1) << Film::kFixedPointBits)));
+    }
+    static FixedRgb of(Rgb v) { return {{toFixed(v.x), toFixed(v.y), toFixed(v.z)}}; }
+    FixedRgb& operator+=(const FixedRgb& o) {
+        for (int i = 0; i < 3; ++i) c[size_t(i)] += o.c[size_t(i)];
+        return *this;
+    }
+    Rgb rgb() const {
+        constexpr double step = 1.0 / double(uint64_t(1) << Film::kFixedPointBits);
+        return Rgb(float(double(int64_t(c[0])) * step), float(double(int64_t(c[1])) * step),
+                   float(double(int64_t(c[2])) * step));
+    }
+};
+static_assert(sizeof(FixedRgb) == Film::kBytesPerSum);
+using TilePixels = std::array<FixedRgb, kTilePixels>;
 
 int tileIndex(int x, int y) {
     return (y % Film::kTileSize) * Film::kTileSize + (x % Film::kTileSize);
@@ -41,7 +74,7 @@ constexpr int kBlockSide = 4;
 constexpr int kBlockPixels = kBlockSide * kBlockSide;
 constexpr int kBlocksPerRow = Film::kTileSize / kBlockSide;
 constexpr int kTileBlocks = kBlocksPerRow * kBlocksPerRow;
-using Block = std::array<Rgb, kBlockPixels>;
+using Block = std::array<FixedRgb, kBlockPixels>;
 
 /// The block of tile pixel i (row-major in the tile, so 0 <= i < kTilePixels) and its place in
 /// the block. Unsigned: the divisions become shifts.
@@ -72,7 +105,7 @@ class BlockArena {
     }
 
   private:
-    static constexpr int kChunkBlocks = 32;  // 6 KiB
+    static constexpr int kChunkBlocks = 32;  // 12 KiB
     struct alignas(64) Chunk {
         std::array<Block, kChunkBlocks> blocks{};
     };
@@ -109,7 +142,7 @@ struct alignas(64) Film::Tile {
     }
 
     /// The sum of `t` at tile pixel i, its block allocated if needed.
-    Rgb& sumAt(TypeBuffer& t, int i) {
+    FixedRgb& sumAt(TypeBuffer& t, int i) {
         Block*& b = t.blocks[blockOf(i)];
         if (!b) b = arena.allocate();
         return (*b)[offsetInBlock(i)];
@@ -130,7 +163,7 @@ struct alignas(64) Film::Tile {
     }
 
     void clear() {
-        combined.fill(Rgb(0.0f));
+        combined.fill(FixedRgb{});
         types.clear();
         slots.clear();
         slotShift = 64;
@@ -230,15 +263,17 @@ Film::Pixel Film::pixel(int x, int y) {
 }
 
 void Film::Pixel::add(PathType type, Rgb value) {
-    if (!isFinite(value)) {
+    if (!isFinite(value) ||
+        std::max({std::fabs(value.x), std::fabs(value.y), std::fabs(value.z)}) > kMaxSampleValue) {
         film_->dropped_.fetch_add(1, std::memory_order_relaxed);
         return;
     }
     // A black sample changes no sum; skipping it also keeps zero-contribution types from
     // allocating buffers.
     if (isBlack(value)) return;
-    tile_->combined[size_t(index_)] += value;
-    tile_->sumAt(tile_->bufferFor(type), index_) += value;
+    const FixedRgb fixed = FixedRgb::of(value);
+    tile_->combined[size_t(index_)] += fixed;
+    tile_->sumAt(tile_->bufferFor(type), index_) += fixed;
 }
 
 void Film::merge(const Film& other) {
@@ -265,7 +300,8 @@ void Film::merge(const Film& other) {
         for (int i = 0; i < kTilePixels; ++i) dst.combined[i] += src.combined[i];
         for (const auto& t : src.types) {
             Tile::TypeBuffer& d = dst.bufferFor(t.type);
-            Tile::forEachSum(t, kTileSize, kTileSize, [&](int i, Rgb v) { dst.sumAt(d, i) += v; });
+            Tile::forEachSum(t, kTileSize, kTileSize,
+                             [&](int i, const FixedRgb& v) { dst.sumAt(d, i) += v; });
         }
     }
     dropped_.fetch_add(other.dropped_.load(), std::memory_order_relaxed);
@@ -282,7 +318,7 @@ Image Film::resolveCombined(float scale) const {
     for (int y = 0; y < height_; ++y) {
         for (int x = 0; x < width_; ++x) {
             const Tile& tile = *tiles_[size_t(y / kTileSize) * tx + x / kTileSize];
-            img.set(x, y, tile.combined[tileIndex(x, y)] * scale);
+            img.set(x, y, tile.combined[size_t(tileIndex(x, y))].rgb() * scale);
         }
     }
     return img;
@@ -320,7 +356,7 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
         for (const auto& t : tile.types) {
             // Pixels without a block are zero: skipping them leaves the double sum unchanged.
             double sum = 0;
-            Tile::forEachSum(t, w, h, [&](int, Rgb v) { sum += luminance(v); });
+            Tile::forEachSum(t, w, h, [&](int, const FixedRgb& v) { sum += luminance(v.rgb()); });
             sums.emplace_back(t.type, sum);
         }
     });
@@ -353,7 +389,8 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
         tileRect(ti, x0, y0, w, h);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
-                out.combined.set(x0 + x, y0 + y, tile.combined[size_t(y * kTileSize + x)] * scale);
+                out.combined.set(x0 + x, y0 + y,
+                                 tile.combined[size_t(y * kTileSize + x)].rgb() * scale);
         // Visit the tile's types in PathType order so that "other" sums in a fixed order.
         std::vector<const Tile::TypeBuffer*> sorted;
         sorted.reserve(tile.types.size());
@@ -362,8 +399,8 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
                   [](const auto* a, const auto* b) { return a->type < b->type; });
         for (const auto* t : sorted) {
             Image& dst = layers[layerOf.at(t->type)];
-            Tile::forEachSum(*t, w, h, [&](int i, Rgb v) {
-                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v);
+            Tile::forEachSum(*t, w, h, [&](int i, const FixedRgb& v) {
+                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
             });
         }
         for (auto& img : layers)
@@ -389,5 +426,83 @@ size_t Film::typeCount() const {
 }
 
 uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_relaxed); }
+
+namespace {
+constexpr uint32_t kFilmMagic = 0x4d4c4650;  // "PFLM"
+constexpr uint32_t kFilmVersion = 1;
+
+PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
+    if (count > PathType::kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
+        r.fail("bad path type");
+    PathType t;
+    for (int i = 0; i < count; ++i) t = t.withVertex((mask >> i) & 1u);
+    return t;
+}
+}  // namespace
+
+// Per tile: the combined sums, then the tile's types in PathType order (so that the bytes do
+// not depend on the order in which types reached it), each with a bit mask of its allocated
+// blocks and those blocks.
+std::vector<uint8_t> Film::serialize() const {
+    ByteWriter w;
+    w.put(kFilmMagic);
+    w.put(kFilmVersion);
+    w.put(int32_t(width_));
+    w.put(int32_t(height_));
+    w.put(uint64_t(dropped_.load()));
+    for (const auto& tile : tiles_) {
+        w.putRaw(tile->combined.data(), sizeof tile->combined);
+        std::vector<const Tile::TypeBuffer*> sorted;
+        for (const auto& t : tile->types) sorted.push_back(&t);
+        std::sort(sorted.begin(), sorted.end(),
+                  [](const auto* a, const auto* b) { return a->type < b->type; });
+        w.put(uint32_t(sorted.size()));
+        for (const auto* t : sorted) {
+            w.put(t->type.specularMask());
+            w.put(uint16_t(t->type.scatteringVertices()));
+            uint16_t mask = 0;
+            for (size_t b = 0; b < t->blocks.size(); ++b)
+                if (t->blocks[b]) mask = uint16_t(mask | (1u << b));
+            w.put(mask);
+            for (const Block* b : t->blocks)
+                if (b) w.putRaw(b->data(), sizeof *b);
+        }
+    }
+    return std::move(w.bytes);
+}
+
+Film Film::deserialize(std::span<const uint8_t> bytes) {
+    static_assert(kTileBlocks == 16, "the block mask is 16 bits");
+    ByteReader r(bytes, "film");
+    if (r.get<uint32_t>() != kFilmMagic) r.fail("not a Partita film");
+    if (uint32_t v = r.get<uint32_t>(); v != kFilmVersion)
+        r.fail("version " + std::to_string(v) + ", expected " + std::to_string(kFilmVersion));
+    int32_t w = r.get<int32_t>(), h = r.get<int32_t>();
+    if (w < 0 || h < 0 || int64_t(w) * h > (int64_t(1) << 28)) r.fail("bad size");
+    Film film(w, h);
+    film.dropped_ = r.get<uint64_t>();
+    for (auto& tile : film.tiles_) {
+        std::memcpy(tile->combined.data(), r.getRaw(sizeof tile->combined).data(),
+                    sizeof tile->combined);
+        uint32_t types = r.get<uint32_t>();
+        for (uint32_t k = 0; k < types; ++k) {
+            uint64_t specular = r.get<uint64_t>();
+            uint16_t count = r.get<uint16_t>();
+            PathType type = pathTypeFromBits(r, specular, count);
+            if (!tile->types.empty() && !(tile->types.back().type < type))
+                r.fail("types out of order");
+            Tile::TypeBuffer& buffer = tile->bufferFor(type);
+            uint16_t mask = r.get<uint16_t>();
+            for (size_t b = 0; b < buffer.blocks.size(); ++b) {
+                if (!((mask >> b) & 1u)) continue;
+                buffer.blocks[b] = tile->arena.allocate();
+                std::memcpy(buffer.blocks[b]->data(), r.getRaw(sizeof(Block)).data(),
+                            sizeof(Block));
+            }
+        }
+    }
+    if (!r.atEnd()) r.fail("trailing bytes");
+    return film;
+}
 
 }  // namespace partita

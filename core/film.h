@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "image.h"
@@ -28,6 +29,14 @@ class Film {
 
   public:
     static constexpr int kTileSize = 16;
+    /// Sums are exact 64-bit fixed point with this many fraction bits (film.cpp): the same bits
+    /// however the samples are grouped, so shards merge into the one-process film exactly.
+    static constexpr int kFixedPointBits = 28;
+    /// A sample component above this is dropped (counted with the non-finite ones): 2^33, a
+    /// quarter of what one sum can hold.
+    static constexpr float kMaxSampleValue = 8589934592.0f;
+    /// Bytes of one pixel's sums (RGB) in one buffer: the combined one or a type's.
+    static constexpr int kBytesPerSum = 24;
     static constexpr const char* kOtherLayer = "other";
 
     Film(int width, int height);
@@ -40,7 +49,8 @@ class Film {
     int tilesX() const { return (width_ + kTileSize - 1) / kTileSize; }
     int tilesY() const { return (height_ + kTileSize - 1) / kTileSize; }
 
-    /// Add `value` of a path of `type` to pixel (x, y). Non-finite values are dropped and counted.
+    /// Add `value` of a path of `type` to pixel (x, y). Non-finite values (and components above
+    /// kMaxSampleValue) are dropped and counted.
     /// Black values change nothing (and do not register the type); a pixel outside the film is
     /// ignored.
     void addSample(int x, int y, PathType type, Rgb value);
@@ -71,11 +81,17 @@ class Film {
     /// Layers: the `maxTypeLayers` types (a negative count counts as 0) with the largest total
     /// luminance, in decreasing order of it and named by PathType::toString(), then "other"
     /// (always last) if any type was left out. Independent of the order in which types reached
-    /// a tile; only a pixel's float sum depends on the order of its own samples. With a `pool`,
+    /// a tile or of samples within a pixel (the sums are exact). With a `pool`,
     /// the work is spread over its threads, for the same result bit for bit.
     LayeredImage resolve(float scale, int maxTypeLayers, ThreadPool* pool = nullptr) const;
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
+
+    /// A versioned binary form of every sum (all types, exact), for a shard's result (shard/);
+    /// deserialize throws std::invalid_argument on anything else (truncated, another version).
+    /// Equal films give equal bytes, whatever order types reached their tiles in.
+    std::vector<uint8_t> serialize() const;
+    static Film deserialize(std::span<const uint8_t> bytes);
 
     /// Number of distinct path types seen so far and of dropped non-finite samples.
     size_t typeCount() const;

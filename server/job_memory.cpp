@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "film.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "integrators/partitioned/partitioned_settings.h"
 #include "mcmc/bootstrap.h"
@@ -15,9 +16,12 @@ namespace partita::server {
 
 namespace {
 
-constexpr double kFilmCombined = 12, kFilmTypeAllowance = 24;  // bytes per pixel
-constexpr double kLayerCopies = 3 * 12 + 12 + 1;               // bytes per pixel and layer
-constexpr double kPartition = 12;                              // bytes per pixel and partition
+// A film keeps exact 24-byte sums (film.h, Film::kBytesPerSum). The per-pixel figures below
+// that were measured with the earlier 12-byte float sums are doubled (marked "x2").
+constexpr double kSum = Film::kBytesPerSum;
+constexpr double kFilmCombined = kSum, kFilmTypeAllowance = 2 * kSum;  // bytes per pixel
+constexpr double kLayerCopies = 3 * 12 + 12 + 1;                       // bytes per pixel and layer
+constexpr double kPartition = 12;  // bytes per pixel and partition
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
@@ -52,9 +56,9 @@ double guideBytes(int partitions, double pixels) {
 /// kept to 2^18 pixel samples, each leaving a few splats of 40 bytes (4 tent copies of 32 bytes
 /// while they are summed).
 double bdptExtraBytes(const RenderSettings& s, double pixels) {
-    double perPixelCap = 24000;
+    double perPixelCap = 2 * 24000;  // x2
     double spp = s.budgetKind == BudgetKind::Seconds ? 1e9 : s.budget;
-    double films = pixels * std::min(1600 * std::sqrt(std::max(1.0, spp)), perPixelCap);
+    double films = pixels * std::min(2 * 1600 * std::sqrt(std::max(1.0, spp)), perPixelCap);
     double splats = std::min(pixels, double(1 << 18)) * 4 * (40 + 4 * 32) + pixels * 4;
     return films + splats;
 }
@@ -91,7 +95,7 @@ double chainBytes(int chains, uint64_t roundMutations, double pixels) {
 /// The type blocks of a film that every type splats into (mlt's film, as above).
 double anyTypeBlocks(const RenderSettings& s, double pixels) {
     double mpp = s.budgetKind == BudgetKind::Seconds ? 1e12 : s.budget;
-    return pixels * std::min(150 * std::sqrt(std::max(1.0, mpp)), 12000.0);
+    return pixels * std::min(2 * 150 * std::sqrt(std::max(1.0, mpp)), 2 * 12000.0);  // x2
 }
 
 MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {

@@ -1,10 +1,10 @@
 // Tests of the tiled, per-type film.
 //
 // Several tests compare films bytewise after adding the same samples in different orders or
-// through merge. Float addition is not associative, so that only holds when every partial sum
-// is exact: those tests use dyadic values (multiples of 1/64 below 16, with few samples per
-// pixel) whose sums fit in a float mantissa. What they check is that nothing *else* in the film
-// (tile type order, thread scheduling, the "other" summation, layer ranking) depends on order.
+// through merge. The film's sums are exact (fixed point), so that holds for any values; the
+// older tests use dyadic values (multiples of 1/64), whose float sums are exact too, and check
+// that nothing *else* (tile type order, thread scheduling, "other", ranking) depends on order;
+// Film.SumsDoNotDependOnGrouping checks the exactness itself with arbitrary values.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -263,6 +263,86 @@ TEST(Film, MergeEqualsAddingEverythingIntoOneFilm) {
 
     Film wrongSize(w + 1, h);
     EXPECT_THROW(first.merge(wrongSize), std::invalid_argument);
+}
+
+// What sharding relies on (shard/): the same samples split into any number of films, each
+// filled in its own order, merge in any order into the bits of the one film, for arbitrary
+// (non-dyadic) values, many per pixel, and magnitudes far apart.
+TEST(Film, SumsDoNotDependOnGrouping) {
+    const int w = 37, h = 21;
+    std::vector<Sample> samples = randomSamples(w, h, 60000, 21, /*dyadic=*/false);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> exponent(-12.0f, 8.0f);
+    for (auto& s : samples) s.value = s.value * std::exp2(exponent(rng));
+    Film one(w, h);
+    addAll(one, samples);
+    for (int parts : {2, 7}) {
+        std::vector<Film> films;
+        for (int k = 0; k < parts; ++k) films.emplace_back(w, h);
+        std::vector<Sample> shuffled = samples;
+        std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(uint32_t(parts)));
+        for (size_t i = 0; i < shuffled.size(); ++i) {
+            const Sample& s = shuffled[i];
+            films[(i * 31) % size_t(parts)].addSample(s.x, s.y, s.type, s.value);
+        }
+        Film merged(w, h);
+        std::vector<int> order(static_cast<size_t>(parts));
+        for (int k = 0; k < parts; ++k) order[size_t(k)] = k;
+        std::shuffle(order.begin(), order.end(), std::mt19937(77));
+        for (int k : order) merged.merge(films[size_t(k)]);
+        SCOPED_TRACE(testing::Message() << parts << " parts");
+        EXPECT_EQ(merged.serialize(), one.serialize());
+        expectBytewiseEqual(merged.resolve(0.37f, 3), one.resolve(0.37f, 3));
+    }
+    // A float sum of the same values does depend on the order (so the check above can fail).
+    float forward = 0, backward = 0;
+    for (const auto& s : samples) forward += s.value.x;
+    for (auto it = samples.rbegin(); it != samples.rend(); ++it) backward += it->value.x;
+    EXPECT_NE(forward, backward);
+}
+
+TEST(Film, FixedPointSumsAreCloseToDoubleSums) {
+    // The rounding of each sample to 2^-28 is far below what an image shows.
+    Film film(1, 1);
+    double sum = 0;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> v(0.0f, 1e-3f);
+    for (int i = 0; i < 100000; ++i) {
+        float x = v(rng);
+        film.addSample(0, 0, PathType(), Rgb(x));
+        sum += double(x);
+    }
+    const float got = film.resolveCombined(1.0f).at(0, 0).x;
+    EXPECT_NEAR(got, sum, 100000 * std::exp2(-29.0) + sum * 1e-7);
+    // A sample beyond the range of a sum is dropped like a non-finite one.
+    film.addSample(0, 0, PathType(), Rgb(1e10f));
+    EXPECT_EQ(film.droppedSamples(), 1u);
+    EXPECT_EQ(film.resolveCombined(1.0f).at(0, 0).x, got);
+}
+
+TEST(Film, SerializeRoundTripsAndRefusesDamage) {
+    const int w = 40, h = 19;
+    Film film(w, h);
+    addAll(film, randomSamples(w, h, 5000, 8, /*dyadic=*/false));
+    film.addSample(1, 1, PathType(), Rgb(NAN));
+    const std::vector<uint8_t> bytes = film.serialize();
+    Film back = Film::deserialize(bytes);
+    EXPECT_EQ(back.width(), w);
+    EXPECT_EQ(back.height(), h);
+    EXPECT_EQ(back.droppedSamples(), 1u);
+    EXPECT_EQ(back.typeCount(), film.typeCount());
+    EXPECT_EQ(back.serialize(), bytes);
+    expectBytewiseEqual(back.resolve(0.5f, 4), film.resolve(0.5f, 4));
+
+    std::vector<uint8_t> truncated(bytes.begin(), bytes.end() - 1);
+    EXPECT_THROW(Film::deserialize(truncated), std::invalid_argument);
+    std::vector<uint8_t> longer = bytes;
+    longer.push_back(0);
+    EXPECT_THROW(Film::deserialize(longer), std::invalid_argument);
+    std::vector<uint8_t> otherVersion = bytes;
+    otherVersion[4] ^= 0x7f;
+    EXPECT_THROW(Film::deserialize(otherVersion), std::invalid_argument);
+    EXPECT_THROW(Film::deserialize(std::vector<uint8_t>(16, 0)), std::invalid_argument);
 }
 
 TEST(Film, NonFiniteSamplesAreDroppedAndCounted) {

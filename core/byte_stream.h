@@ -1,0 +1,82 @@
+// A little-endian-as-the-host binary writer and a bounds-checked reader, shared by the versioned
+// file formats (chain plans, films, shard plans and shard results). The reader throws
+// std::invalid_argument("<what>: truncated") instead of reading past the end.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace partita {
+
+class ByteWriter {
+  public:
+    template <typename T>
+    void put(const T& value) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        const auto* p = reinterpret_cast<const uint8_t*>(&value);
+        bytes.insert(bytes.end(), p, p + sizeof value);
+    }
+    /// A length (uint64) and the bytes.
+    void putBytes(std::span<const uint8_t> b) {
+        put(uint64_t(b.size()));
+        bytes.insert(bytes.end(), b.begin(), b.end());
+    }
+    void putString(const std::string& s) {
+        putBytes({reinterpret_cast<const uint8_t*>(s.data()), s.size()});
+    }
+    /// Raw bytes, no length.
+    void putRaw(const void* data, size_t size) {
+        const auto* p = static_cast<const uint8_t*>(data);
+        bytes.insert(bytes.end(), p, p + size);
+    }
+    std::vector<uint8_t> bytes;
+};
+
+class ByteReader {
+  public:
+    ByteReader(std::span<const uint8_t> b, std::string what) : bytes_(b), what_(std::move(what)) {}
+    template <typename T>
+    T get() {
+        static_assert(std::is_trivially_copyable_v<T>);
+        need(sizeof(T));
+        T value;
+        std::memcpy(&value, bytes_.data() + at_, sizeof value);
+        at_ += sizeof value;
+        return value;
+    }
+    std::vector<uint8_t> getBytes() {
+        std::span<const uint8_t> s = getRaw(get<uint64_t>());
+        return {s.begin(), s.end()};
+    }
+    std::string getString() {
+        std::span<const uint8_t> s = getRaw(get<uint64_t>());
+        return {reinterpret_cast<const char*>(s.data()), s.size()};
+    }
+    /// The next `n` bytes, in place.
+    std::span<const uint8_t> getRaw(uint64_t n) {
+        need(n);
+        std::span<const uint8_t> s = bytes_.subspan(at_, size_t(n));
+        at_ += size_t(n);
+        return s;
+    }
+    bool atEnd() const { return at_ == bytes_.size(); }
+    /// Throws "<what>: <message>".
+    [[noreturn]] void fail(const std::string& message) const {
+        throw std::invalid_argument(what_ + ": " + message);
+    }
+
+  private:
+    void need(uint64_t n) const {
+        if (n > bytes_.size() - at_) fail("truncated");
+    }
+    std::span<const uint8_t> bytes_;
+    std::string what_;
+    size_t at_ = 0;
+};
+
+}  // namespace partita
