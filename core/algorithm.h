@@ -19,6 +19,7 @@ namespace partita {
 class RenderScene;
 class Camera;
 class ThreadPool;
+class Shardable;
 
 /// Thrown out of Algorithm::render when the cancel flag is raised.
 struct RenderCancelled {};
@@ -83,6 +84,9 @@ class Algorithm {
   public:
     virtual ~Algorithm() = default;
     virtual RenderResult render(const RenderContext& ctx) = 0;
+    /// How the algorithm runs as shards in several processes (shard/shardable.h); null when it
+    /// cannot. Owned by the algorithm.
+    virtual Shardable* shardable() { return nullptr; }
 };
 
 /// The registry of algorithms by name.

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <ctime>
+#include <stdexcept>
 
 #include "clock.h"
 #include "progress_reporter.h"
+#include "thread_pool.h"
 
 namespace partita {
 
@@ -97,6 +99,63 @@ class SamplePassLoop {
 
 RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer) {
     return SamplePassLoop(ctx, renderer).run();
+}
+
+namespace {
+
+uint64_t sampleBudget(const RenderContext& ctx) {
+    if (ctx.settings.budgetKind != BudgetKind::SamplesPerPixel)
+        throw std::invalid_argument(
+            "a sharded pt/bdpt job needs a samples-per-pixel budget (--spp): a time budget is "
+            "not reproducible across machines");
+    return uint64_t(ctx.settings.budget);
+}
+
+}  // namespace
+
+std::vector<uint8_t> SamplePassShards::plan(const RenderContext& ctx) {
+    sampleBudget(ctx);  // nothing to do once: every (pixel, sample) has its own stream
+    return {};
+}
+
+uint32_t SamplePassShards::maxShards(const RenderContext& ctx, std::span<const uint8_t>) const {
+    return uint32_t(std::min<uint64_t>(sampleBudget(ctx), UINT32_MAX));
+}
+
+ShardWork SamplePassShards::renderShard(const RenderContext& ctx, std::span<const uint8_t>,
+                                        uint32_t shard, uint32_t shards) {
+    const ShareRange share = shareRange(sampleBudget(ctx), shards, shard);
+    std::unique_ptr<SamplePassRenderer> renderer = factory_(ctx);
+    const double pixels = double(ctx.settings.width) * ctx.settings.height;
+    ProgressReporter progress(ctx.observer, "render", "samples",
+                              pixels * double(share.end - share.first));
+    const uint64_t passSpp = std::max<uint64_t>(1, renderer->maxPassSamples());
+    for (uint64_t first = share.first; first < share.end; first += passSpp) {
+        ctx.throwIfCancelled();
+        renderer->renderPass({first, std::min(share.end, first + passSpp)}, progress);
+    }
+    progress.flush();
+    RenderStats stats;
+    renderer->addStats(stats, 0);
+    ShardWork work;
+    work.films.push_back(renderer->film());
+    work.counts.push_back(share.end - share.first);
+    work.sums["rays"] = stats.values["rays"];
+    return work;
+}
+
+RenderResult SamplePassShards::resolve(const RenderContext& ctx, std::span<const uint8_t>,
+                                       const ShardWork& merged) {
+    // As SamplePassLoop's final image: the film over the samples per pixel, without a pool.
+    const uint64_t spp = std::max<uint64_t>(1, merged.counts.at(0));
+    const Film& film = merged.films.at(0);
+    RenderResult result;
+    result.image = film.resolve(1.0f / float(spp), ctx.settings.maxTypeLayers, nullptr);
+    result.stats.values["spp"] = double(merged.counts[0]);
+    result.stats.values["rays"] = merged.sums.count("rays") ? merged.sums.at("rays") : 0;
+    result.stats.values["path_types"] = double(film.typeCount());
+    result.stats.values["dropped_samples"] = double(film.droppedSamples());
+    return result;
 }
 
 }  // namespace partita

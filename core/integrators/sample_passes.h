@@ -6,8 +6,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 
 #include "algorithm.h"
+#include "film.h"
+#include "shard/shardable.h"
 
 namespace partita {
 
@@ -31,9 +35,29 @@ class SamplePassRenderer {
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).
     virtual uint64_t maxPassSamples() const { return 1024; }
+    /// A copy of everything rendered so far as one film (resolve(n) is film().resolve(1/n)).
+    virtual Film film() const = 0;
 };
 
 /// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress.
 RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer);
+
+/// The shards of a sample-based integrator: shard i of n renders a contiguous range of sample
+/// indices of every pixel (shareRange of the samples per pixel). Every (pixel, sample) has its
+/// own random stream and the film sums exactly, so the merged film is the one-process film.
+class SamplePassShards : public Shardable {
+  public:
+    using Factory = std::function<std::unique_ptr<SamplePassRenderer>(const RenderContext&)>;
+    explicit SamplePassShards(Factory factory) : factory_(std::move(factory)) {}
+    std::vector<uint8_t> plan(const RenderContext& ctx) override;
+    ShardWork renderShard(const RenderContext& ctx, std::span<const uint8_t> plan, uint32_t shard,
+                          uint32_t shards) override;
+    RenderResult resolve(const RenderContext& ctx, std::span<const uint8_t> plan,
+                         const ShardWork& merged) override;
+    uint32_t maxShards(const RenderContext& ctx, std::span<const uint8_t> plan) const override;
+
+  private:
+    Factory factory_;
+};
 
 }  // namespace partita

@@ -129,20 +129,24 @@ void ChainRunner::addSplats() {
     }
 }
 
-double ChainRunner::groupScale(uint32_t group) const {
-    uint64_t done = mutationsDone(int(group));
-    double pixels = double(ctx_.settings.width) * ctx_.settings.height;
+float ChainRunner::filmScale(double b, int width, int height, uint64_t done) {
+    double pixels = double(width) * height;
     // paper Eq. 9's I_i = (b_i / N_i) sum h(x) f(x) / f*(x), with h the tent filter times the
     // pixel count (the camera's importance is normalised over the whole image).
-    return done > 0 ? plan_.groups[group].b * pixels / double(done) : 0;
+    return done > 0 ? float(b * pixels / double(done)) : 0.0f;
+}
+
+float ChainRunner::groupScale(uint32_t group) const {
+    return filmScale(plan_.groups[group].b, ctx_.settings.width, ctx_.settings.height,
+                     mutationsDone(int(group)));
 }
 
 LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
-    return films_[group].resolve(float(groupScale(group)), ctx_.settings.maxTypeLayers, pool);
+    return films_[group].resolve(groupScale(group), ctx_.settings.maxTypeLayers, pool);
 }
 
 Image ChainRunner::resolveGroupCombined(uint32_t group) const {
-    return films_[group].resolveCombined(float(groupScale(group)));
+    return films_[group].resolveCombined(groupScale(group));
 }
 
 uint64_t ChainRunner::mutationsDone(int group) const {

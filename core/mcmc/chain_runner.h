@@ -42,6 +42,10 @@ class ChainRunner {
     void run(ProgressReporter& progress, double seconds,
              const std::function<void(double)>& afterRound = {});
 
+    /// The scale of a group's film: b W H / N (N mutations done in it; 0 when none), in float as
+    /// the films resolve with it. One function for the in-process image and the merged shards'.
+    static float filmScale(double b, int width, int height, uint64_t done);
+
     /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it).
     LayeredImage resolveGroup(uint32_t group, ThreadPool* pool) const;
     /// Only the combined image of group g (no type layers), scaled the same way.
@@ -53,8 +57,8 @@ class ChainRunner {
     uint64_t rays() const;
 
   private:
-    /// b_g W H / N_g.
-    double groupScale(uint32_t group) const;
+    /// filmScale of group g.
+    float groupScale(uint32_t group) const;
     struct Chain;
     void burnIn();  // every chain's burn-in steps, unsplatted
     void runRound(uint64_t roundLength, ProgressReporter& progress);

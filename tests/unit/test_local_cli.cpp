@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -94,6 +95,62 @@ TEST(LocalCli, BadInputIsOneLineAndNonZero) {
     expectOneLineError(
         "render " + scene + " --quiet --out /nonexistent-dir/x.exr --width 8 --height 8 --spp 1",
         "nonexistent-dir");
+}
+
+bool sameBits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+// The scale-out commands as a cluster runs them: plan once, each shard from its array index in
+// the environment, merge in any order; the EXR equals the one-process render bit for bit.
+TEST(LocalCli, ShardsFromTheArrayIndexMergeIntoTheOneProcessRender) {
+    const std::string scene = std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf";
+    const std::string job = " --algorithm mlt --mpp 4 --bootstrap 3000 --width 24 --height 18";
+    const fs::path dir = tempDir();
+    const std::string one = (dir / "one.exr").string(), plan = (dir / "job.plan").string();
+    ASSERT_EQ(runLocal("render " + scene + job + " --quiet --out " + one).exitCode, 0);
+    RunResult r = runLocal("plan " + scene + job + " --quiet --shards 3 --out " + plan);
+    ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+    std::string shards;
+    for (int i : {2, 0, 1}) {
+        const std::string out = (dir / ("s" + std::to_string(i) + ".shard")).string();
+        const char* variable = i == 1 ? "JOB_COMPLETION_INDEX" : "SLURM_ARRAY_TASK_ID";
+        r = runLocal("render --plan " + plan + " --quiet --out " + out);
+        EXPECT_NE(r.exitCode, 0);  // no index anywhere
+        ::setenv(variable, std::to_string(i).c_str(), 1);
+        r = runLocal("render --plan " + plan + " --quiet --out " + out);
+        ::unsetenv(variable);
+        ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+        shards += " " + out;
+    }
+    const std::string merged = (dir / "merged.exr").string();
+    r = runLocal("merge --plan " + plan + shards + " --quiet --out " + merged);
+    ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+    const LayeredImage a = readExr(one), b = readExr(merged);
+    EXPECT_TRUE(sameBits(a.combined, b.combined));
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (size_t i = 0; i < a.layers.size(); ++i)
+        EXPECT_TRUE(sameBits(a.layers[i].image, b.layers[i].image)) << a.layers[i].name;
+
+    // Wrong, missing and mismatched shards: one line each.
+    const std::string s0 = (dir / "s0.shard").string(), s1 = (dir / "s1.shard").string();
+    expectOneLineError("merge --plan " + plan + " " + s0 + " " + s1 + " --out " + merged,
+                       "missing shards 2 of 3");
+    const fs::path cut = dir / "cut.shard";
+    fs::copy_file(s0, cut, fs::copy_options::overwrite_existing);
+    fs::resize_file(cut, fs::file_size(cut) / 2);
+    expectOneLineError("merge --plan " + plan + " " + cut.string() + " --out " + merged,
+                       "truncated or damaged");
+    const std::string otherPlan = (dir / "other.plan").string();
+    ASSERT_EQ(runLocal("plan " + scene + job + " --seed 99 --quiet --shards 3 --out " + otherPlan)
+                  .exitCode,
+              0);
+    expectOneLineError("merge --plan " + otherPlan + shards + " --out " + merged, "another plan");
+    expectOneLineError("render --plan " + plan + " --shard 3 --out " + s0, "out of range");
+    expectOneLineError("render --plan " + s0 + " --shard 0 --out " + s0,
+                       "not a Partita shard plan");
+    expectOneLineError("plan " + scene + " --seconds 2 --shards 2 --out " + plan, "time budget");
 }
 
 }  // namespace

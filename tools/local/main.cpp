@@ -1,6 +1,10 @@
 // partita-local: the core without the service. Renders a glTF scene in-process:
 //   partita-local render SCENE --spp N --out x.exr [--png x.png] [render options]
 //   partita-local info SCENE
+// and runs one job as shards (shard_commands.h):
+//   partita-local plan SCENE --shards N --out PLAN [render options]
+//   partita-local render --plan PLAN [--shard I] --out SHARD
+//   partita-local merge --plan PLAN SHARD... --out FILE.exr
 // Bad input prints one line on stderr and exits non-zero.
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -17,6 +21,7 @@
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_environment.h"
+#include "shard_commands.h"
 #include "thread_pool.h"
 
 namespace fs = std::filesystem;
@@ -103,14 +108,42 @@ int main(int argc, char** argv) {
     std::string scenePath, outPath = "out.exr", pngPath;
     bool quiet = false;
     RenderOptions options;
-    auto* render =
-        app.add_subcommand("render", "render a scene to a multi-layer EXR and a PNG preview");
-    render->add_option("scene", scenePath, "a .gltf or .glb file")->required();
-    render->add_option("--out", outPath, "output EXR (combined + one layer per path type)")
+    ShardCommand shard;
+    auto* render = app.add_subcommand(
+        "render", "render a scene to a multi-layer EXR and a PNG preview, or one shard of a plan");
+    render->add_option("scene", scenePath, "a .gltf or .glb file (not with --plan)");
+    render
+        ->add_option("--out", outPath,
+                     "output EXR (combined + one layer per path type); with --plan the shard")
         ->capture_default_str();
     render->add_option("--png", pngPath, "PNG preview (default: the EXR name with .png)");
     render->add_flag("--quiet", quiet, "no progress bar");
+    render->add_option("--plan", shard.plan, "render one shard of this plan (partita-local plan)");
+    render->add_option("--shard", shard.shard,
+                       "the shard index (default: $SLURM_ARRAY_TASK_ID or $JOB_COMPLETION_INDEX)");
     addRenderOptions(*render, options);
+
+    PlanCommand plan;
+    auto* planApp = app.add_subcommand(
+        "plan", "plan a job as N shards: runs its start-up once and writes the plan file");
+    planApp->add_option("scene", plan.scene, "a .gltf or .glb file")->required();
+    planApp->add_option("--shards", plan.shards, "number of shards")->required();
+    planApp->add_option("--out", plan.out, "the plan file")->required();
+    planApp->add_flag("--quiet", quiet, "no progress bar");
+    addRenderOptions(*planApp, options);
+
+    MergeCommand merge;
+    auto* mergeApp = app.add_subcommand(
+        "merge", "merge the shards of a plan into the job's EXR, bit-identical to one process");
+    mergeApp->add_option("shards", merge.shards, "shard files, in any order")->required();
+    mergeApp->add_option("--plan", merge.plan, "the plan the shards were rendered from")
+        ->required();
+    mergeApp->add_option("--out", merge.out, "output EXR")->required();
+    mergeApp->add_option("--png", merge.png, "PNG preview (default: the EXR name with .png)");
+    mergeApp->add_flag("--allow-partial", merge.allowPartial,
+                       "write what the given shards hold even when some are missing");
+    mergeApp->add_flag("--quiet", quiet, "no messages");
+
     auto* info = app.add_subcommand("info", "print what a scene contains");
     info->add_option("scene", scenePath, "a .gltf or .glb file")->required();
     try {
@@ -123,7 +156,20 @@ int main(int argc, char** argv) {
     }
     spdlog::set_level(quiet ? spdlog::level::warn : spdlog::level::info);
     try {
-        if (*render) return renderCommand(scenePath, options, outPath, pngPath, quiet);
+        if (*render && !shard.plan.empty()) {
+            if (!scenePath.empty())
+                throw std::invalid_argument(
+                    "give a scene or --plan, not both (the plan names its scene)");
+            shard.out = outPath;
+            shard.threads = options.threads;
+            return runShardCommand(shard, quiet);
+        }
+        if (*render) {
+            if (scenePath.empty()) throw std::invalid_argument("render needs a scene (or --plan)");
+            return renderCommand(scenePath, options, outPath, pngPath, quiet);
+        }
+        if (*planApp) return runPlanCommand(plan, options, quiet);
+        if (*mergeApp) return runMergeCommand(merge, quiet);
         return infoCommand(scenePath);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "partita-local: error: %s\n", e.what());

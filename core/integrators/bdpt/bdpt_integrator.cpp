@@ -66,10 +66,14 @@ class BdptPasses : public SamplePassRenderer {
     }
 
     LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override {
+        return film().resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+    }
+
+    Film film() const override {
         Film sum(cameraFilm_.width(), cameraFilm_.height());
         sum.merge(cameraFilm_);
         sum.merge(splatFilm_);
-        return sum.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+        return sum;
     }
 
     void addStats(RenderStats& st, double seconds) const override {
@@ -170,6 +174,18 @@ class BdptPasses : public SamplePassRenderer {
 RenderResult BdptAlgorithm::render(const RenderContext& ctx) {
     BdptPasses passes(ctx, settings_);
     return runSamplePasses(ctx, passes);
+}
+
+BdptAlgorithm::BdptAlgorithm(BdptSettings settings) : settings_(settings) {}
+BdptAlgorithm::~BdptAlgorithm() = default;
+
+Shardable* BdptAlgorithm::shardable() {
+    if (!shards_)
+        shards_ =
+            std::make_unique<SamplePassShards>([settings = settings_](const RenderContext& ctx) {
+                return std::make_unique<BdptPasses>(ctx, settings);
+            });
+    return shards_.get();
 }
 
 void registerBdpt() {

@@ -8,6 +8,8 @@
 // is bit-identical for any thread count and any split of the budget into passes.
 #pragma once
 
+#include <memory>
+
 #include "algorithm.h"
 #include "integrators/bdpt/bdpt_settings.h"
 
@@ -15,11 +17,14 @@ namespace partita {
 
 class BdptAlgorithm : public Algorithm {
   public:
-    explicit BdptAlgorithm(BdptSettings settings = {}) : settings_(settings) {}
+    explicit BdptAlgorithm(BdptSettings settings = {});
+    ~BdptAlgorithm() override;
     RenderResult render(const RenderContext& ctx) override;
+    Shardable* shardable() override;
 
   private:
     BdptSettings settings_;
+    std::unique_ptr<Shardable> shards_;
 };
 
 void registerBdpt();

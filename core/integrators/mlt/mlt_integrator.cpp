@@ -5,6 +5,7 @@
 
 #include "camera.h"
 #include "clock.h"
+#include "integrators/mlt/mlt_shards.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
@@ -75,7 +76,7 @@ ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sample
     return plan;
 }
 
-RenderResult MltAlgorithm::render(const RenderContext& ctx) {
+MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     const RenderSettings& rs = ctx.settings;
     if (!ctx.camera.isConnectable())
         throw std::invalid_argument(
@@ -88,17 +89,31 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
     uint64_t bootstrapSamples =
-        rs.bootstrapSamples > 0 ? rs.bootstrapSamples : settings_.bootstrapSamples;
-    BootstrapResult bootstrap = runBootstrap(ctx, sampler, bootstrapSamples);
-    double bootstrapSeconds = secondsSince(start);
+        rs.bootstrapSamples > 0 ? rs.bootstrapSamples : settings.bootstrapSamples;
+    MltStart out;
+    out.bootstrap = runBootstrap(ctx, sampler, bootstrapSamples);
+    out.bootstrapSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 
-    uint64_t byBudget = std::max<uint64_t>(1, mutations / settings_.minMutationsPerChain);
-    int chains = int(std::min<uint64_t>(uint64_t(std::max(1, settings_.chains)), byBudget));
-    ChainPlan plan = planMltChains(ctx, sampler, bootstrap, chains, mutations);
-    auto makeMutations = [&](uint32_t) {
-        return makeVeachMutations(ctx.scene, ctx.camera, rs.maxDepth, settings_.mutations);
-    };
+    uint64_t byBudget = std::max<uint64_t>(1, mutations / settings.minMutationsPerChain);
+    int chains = int(std::min<uint64_t>(uint64_t(std::max(1, settings.chains)), byBudget));
+    out.plan = planMltChains(ctx, sampler, out.bootstrap, chains, mutations);
+    return out;
+}
+
+MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings) {
+    return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, settings.mutations);
+}
+
+RenderResult MltAlgorithm::render(const RenderContext& ctx) {
+    const RenderSettings& rs = ctx.settings;
+    auto start = Clock::now();
+    double pixels = double(rs.width) * rs.height;
+    MltStart mltStart = startMlt(ctx, settings_);
+    const BootstrapResult& bootstrap = mltStart.bootstrap;
+    const ChainPlan& plan = mltStart.plan;
+    const double bootstrapSeconds = mltStart.bootstrapSeconds;
+    auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
     ChainRunner runner(ctx, plan, makeMutations, {}, settings_.roundMutations);
     runChainsWithPreviews(ctx, runner, plan, bootstrapSeconds,
                           [&](ThreadPool* pool) { return runner.resolveGroup(0, pool); }, {});
@@ -112,6 +127,14 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     st.values["path_types"] = double(runner.film(0).typeCount());
     addChainStats(st, runner, plan, secondsSince(start), bootstrapSeconds, bootstrap.rays, pixels);
     return result;
+}
+
+MltAlgorithm::MltAlgorithm(MltSettings settings) : settings_(settings) {}
+MltAlgorithm::~MltAlgorithm() = default;
+
+Shardable* MltAlgorithm::shardable() {
+    if (!shards_) shards_ = std::make_unique<MltShards>(settings_);
+    return shards_.get();
 }
 
 void registerMlt() {

@@ -9,9 +9,12 @@
 // mutations connect to the pinhole; an orthographic camera's importance is a delta).
 #pragma once
 
+#include <memory>
+
 #include "algorithm.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "mcmc/chain_plan.h"
+#include "mcmc/veach_mutations.h"
 
 namespace partita {
 
@@ -36,13 +39,28 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
                         const BootstrapResult& bootstrap, int chains, uint64_t mutations);
 
+/// What mlt does before its chains run: the bootstrap and the chain plan (mutation budgets
+/// plan every mutation; a time budget plans an upper bound).
+struct MltStart {
+    BootstrapResult bootstrap;
+    ChainPlan plan;
+    double bootstrapSeconds = 0;
+};
+MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
+
+/// One chain's mutations.
+MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings);
+
 class MltAlgorithm : public Algorithm {
   public:
-    explicit MltAlgorithm(MltSettings settings = {}) : settings_(settings) {}
+    explicit MltAlgorithm(MltSettings settings = {});
+    ~MltAlgorithm() override;
     RenderResult render(const RenderContext& ctx) override;
+    Shardable* shardable() override;
 
   private:
     MltSettings settings_;
+    std::unique_ptr<Shardable> shards_;
 };
 
 void registerMlt();

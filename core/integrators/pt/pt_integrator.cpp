@@ -53,6 +53,12 @@ class PathTracerPasses : public SamplePassRenderer {
         return film_.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
+    Film film() const override {
+        Film copy(film_.width(), film_.height());
+        copy.merge(film_);
+        return copy;
+    }
+
     void addStats(RenderStats& st, double seconds) const override {
         st.values["rays"] = double(rays_.load());
         st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
@@ -102,9 +108,19 @@ class PathTracerPasses : public SamplePassRenderer {
 
 }  // namespace
 
+PathTracerAlgorithm::PathTracerAlgorithm() = default;
+PathTracerAlgorithm::~PathTracerAlgorithm() = default;
+
 RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) {
     PathTracerPasses passes(ctx);
     return runSamplePasses(ctx, passes);
+}
+
+Shardable* PathTracerAlgorithm::shardable() {
+    if (!shards_)
+        shards_ = std::make_unique<SamplePassShards>(
+            [](const RenderContext& ctx) { return std::make_unique<PathTracerPasses>(ctx); });
+    return shards_.get();
 }
 
 void registerPathTracer() {

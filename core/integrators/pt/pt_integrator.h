@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 
 #include "algorithm.h"
 #include "math/vec.h"
@@ -26,7 +27,13 @@ inline Rng pixelSampleRng(uint64_t seed, int x, int y, int width, uint64_t sampl
 
 class PathTracerAlgorithm : public Algorithm {
   public:
+    PathTracerAlgorithm();
+    ~PathTracerAlgorithm() override;
     RenderResult render(const RenderContext& ctx) override;
+    Shardable* shardable() override;
+
+  private:
+    std::unique_ptr<Shardable> shards_;
 };
 
 void registerPathTracer();

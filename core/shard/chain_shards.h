@@ -1,0 +1,29 @@
+// What the MCMC algorithms share to run as shards: shard i of n runs a contiguous range of the
+// chain plan's chains (every chain's result depends only on its own entry in the plan,
+// chain_plan.h), and hands back its groups' films, the mutations done in each group, the rays
+// and the per-mutation counts.
+#pragma once
+
+#include <cstdint>
+
+#include "mcmc/chain_plan.h"
+#include "shard/shardable.h"
+
+namespace partita {
+
+class ChainRunner;
+struct RenderStats;
+
+/// The plan restricted to shard `shard` of `shards` (groups unchanged, a range of chains).
+ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards);
+
+/// A finished runner's work: one film and one mutation count per group, "rays" (plus
+/// `extraRays`), "proposed_<m>" and "accepted_<m>" per mutation.
+ShardWork chainShardWork(const ChainRunner& runner, const ChainPlan& plan);
+
+/// The statistics of merged chain work, as addChainStats gives them in process (without the
+/// timings, which a merge does not know).
+void addMergedChainStats(RenderStats& stats, const ShardWork& merged, const ChainPlan& plan,
+                         double pixels);
+
+}  // namespace partita

@@ -1,0 +1,206 @@
+#include "shard/shard_files.h"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "byte_stream.h"
+
+namespace partita {
+
+namespace {
+
+constexpr uint32_t kPlanMagic = 0x4e4c5050;    // "PPLN"
+constexpr uint32_t kResultMagic = 0x44485350;  // "PSHD"
+constexpr uint32_t kPlanVersion = 1;
+constexpr uint32_t kResultVersion = 1;
+
+// Every field of RenderSettings travels in the plan. A field added to the struct changes its
+// size and stops the build here: add it below (and bump kPlanVersion).
+static_assert(sizeof(RenderSettings) == 200, "a RenderSettings field is not in the shard plan");
+
+void putSettings(ByteWriter& w, const RenderSettings& s) {
+    w.put(int32_t(s.width));
+    w.put(int32_t(s.height));
+    w.putString(s.cameraName);
+    w.put(uint8_t(s.budgetKind));
+    w.put(s.budget);
+    w.put(s.seed);
+    w.put(int32_t(s.maxDepth));
+    w.put(int32_t(s.partitions));
+    w.put(int32_t(s.guideCandidates));
+    w.put(s.guideRadius);
+    w.put(s.guideEpsilon);
+    w.put(s.bootstrapSamples);
+    w.putString(s.prepass);
+    w.putString(s.environment.file);
+    w.put(uint8_t(s.environment.hasColor));
+    w.put(s.environment.color);
+    w.put(s.environment.rotationDegrees);
+    w.put(int32_t(s.maxTypeLayers));
+    w.put(s.previewIntervalSeconds);
+}
+
+RenderSettings getSettings(ByteReader& r) {
+    RenderSettings s;
+    s.width = r.get<int32_t>();
+    s.height = r.get<int32_t>();
+    s.cameraName = r.getString();
+    uint8_t kind = r.get<uint8_t>();
+    if (kind > uint8_t(BudgetKind::Seconds)) r.fail("bad budget kind");
+    s.budgetKind = BudgetKind(kind);
+    s.budget = r.get<double>();
+    s.seed = r.get<uint64_t>();
+    s.maxDepth = r.get<int32_t>();
+    s.partitions = r.get<int32_t>();
+    s.guideCandidates = r.get<int32_t>();
+    s.guideRadius = r.get<float>();
+    s.guideEpsilon = r.get<float>();
+    s.bootstrapSamples = r.get<uint64_t>();
+    s.prepass = r.getString();
+    s.environment.file = r.getString();
+    s.environment.hasColor = r.get<uint8_t>() != 0;
+    s.environment.color = r.get<std::array<float, 3>>();
+    s.environment.rotationDegrees = r.get<float>();
+    s.maxTypeLayers = r.get<int32_t>();
+    s.previewIntervalSeconds = r.get<double>();
+    return s;
+}
+
+void checkHeader(ByteReader& r, uint32_t magic, uint32_t version, const char* kind) {
+    if (r.get<uint32_t>() != magic) r.fail(std::string("not a Partita ") + kind);
+    if (uint32_t v = r.get<uint32_t>(); v != version)
+        r.fail(std::string(kind) + " version " + std::to_string(v) + ", this build reads " +
+               std::to_string(version));
+}
+
+}  // namespace
+
+uint64_t fnv1a64(std::span<const uint8_t> bytes) {
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ull;
+    return h;
+}
+
+std::vector<uint8_t> serializeShardPlan(const ShardPlan& p) {
+    ByteWriter w;
+    w.put(kPlanMagic);
+    w.put(kPlanVersion);
+    w.putString(p.algorithm);
+    w.putString(p.scene);
+    w.put(p.sceneDigest);
+    putSettings(w, p.settings);
+    w.put(p.shards);
+    w.putBytes(p.state);
+    return std::move(w.bytes);
+}
+
+ShardPlan deserializeShardPlan(std::span<const uint8_t> bytes) {
+    ByteReader r(bytes, "shard plan");
+    checkHeader(r, kPlanMagic, kPlanVersion, "shard plan");
+    ShardPlan p;
+    p.algorithm = r.getString();
+    p.scene = r.getString();
+    p.sceneDigest = r.get<uint64_t>();
+    p.settings = getSettings(r);
+    p.shards = r.get<uint32_t>();
+    if (p.shards == 0) r.fail("no shards");
+    p.state = r.getBytes();
+    if (!r.atEnd()) r.fail("trailing bytes");
+    return p;
+}
+
+uint64_t ShardPlan::id() const { return fnv1a64(serializeShardPlan(*this)); }
+
+// The body, then the FNV-1a of the body: a truncated or flipped file fails the check before
+// anything in it is trusted.
+static void putWork(ByteWriter& w, const ShardWork& work) {
+    w.put(uint64_t(work.films.size()));
+    for (const Film& f : work.films) w.putBytes(f.serialize());
+    w.put(uint64_t(work.counts.size()));
+    for (uint64_t c : work.counts) w.put(c);
+    w.put(uint64_t(work.sums.size()));
+    for (const auto& [name, value] : work.sums) {
+        w.putString(name);
+        w.put(value);
+    }
+}
+
+uint64_t shardWorkDigest(const ShardWork& work) {
+    ByteWriter w;
+    putWork(w, work);
+    return fnv1a64(w.bytes);
+}
+
+std::vector<uint8_t> serializeShardResult(const ShardResult& s) {
+    ByteWriter w;
+    w.put(kResultMagic);
+    w.put(kResultVersion);
+    w.put(s.planId);
+    w.put(s.shard);
+    w.put(s.shards);
+    putWork(w, s.work);
+    w.put(fnv1a64(w.bytes));
+    return std::move(w.bytes);
+}
+
+ShardResult deserializeShardResult(std::span<const uint8_t> bytes) {
+    ByteReader r(bytes, "shard result");
+    checkHeader(r, kResultMagic, kResultVersion, "shard result");
+    if (bytes.size() < 16) r.fail("truncated");
+    uint64_t stored;
+    std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+    if (fnv1a64(bytes.first(bytes.size() - 8)) != stored)
+        r.fail("checksum mismatch (truncated or damaged file)");
+    ByteReader body(bytes.first(bytes.size() - 8), "shard result");
+    body.get<uint32_t>();
+    body.get<uint32_t>();
+    ShardResult s;
+    s.planId = body.get<uint64_t>();
+    s.shard = body.get<uint32_t>();
+    s.shards = body.get<uint32_t>();
+    if (s.shards == 0 || s.shard >= s.shards) body.fail("bad shard index");
+    uint64_t films = body.get<uint64_t>();
+    for (uint64_t i = 0; i < films; ++i) s.work.films.push_back(Film::deserialize(body.getBytes()));
+    uint64_t counts = body.get<uint64_t>();
+    for (uint64_t i = 0; i < counts; ++i) s.work.counts.push_back(body.get<uint64_t>());
+    uint64_t sums = body.get<uint64_t>();
+    for (uint64_t i = 0; i < sums; ++i) {
+        std::string name = body.getString();
+        s.work.sums[name] = body.get<double>();
+    }
+    if (!body.atEnd()) body.fail("trailing bytes");
+    return s;
+}
+
+std::vector<uint8_t> readFileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read '" + path + "'");
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+    if (in.bad()) throw std::runtime_error("cannot read '" + path + "'");
+    return bytes;
+}
+
+void writeFileBytes(const std::string& path, std::span<const uint8_t> bytes) {
+    const std::string tmp = path + ".partial";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        if (!out.flush()) {
+            std::remove(tmp.c_str());
+            throw std::runtime_error("cannot write '" + path + "'");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write '" + path + "': " + ec.message());
+    }
+}
+
+}  // namespace partita

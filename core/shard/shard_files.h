@@ -1,0 +1,55 @@
+// The two files of a sharded job (DESIGN.md, "Scale-out"):
+// - the plan: the algorithm, the scene (path and a digest of its file), every render setting,
+//   the shard count and the algorithm's once-per-job state (Shardable::plan);
+// - a shard's result: which plan (its id) and which shard it belongs to, and its work
+//   (films, counts, sums), with a checksum so that a truncated or damaged file is refused.
+// Both are versioned; reading anything else throws std::invalid_argument with one clear line.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "render_settings.h"
+#include "shard/shardable.h"
+
+namespace partita {
+
+struct ShardPlan {
+    std::string algorithm;
+    std::string scene;         // the scene file the plan was made from (as given)
+    uint64_t sceneDigest = 0;  // of that file's bytes (shards refuse another scene)
+    RenderSettings settings;
+    uint32_t shards = 1;
+    std::vector<uint8_t> state;  // Shardable::plan's bytes
+
+    /// Identifies the plan: a 64-bit FNV-1a hash of its serialised form.
+    uint64_t id() const;
+};
+
+std::vector<uint8_t> serializeShardPlan(const ShardPlan& plan);
+ShardPlan deserializeShardPlan(std::span<const uint8_t> bytes);
+
+struct ShardResult {
+    uint64_t planId = 0;
+    uint32_t shard = 0, shards = 0;
+    ShardWork work;
+};
+
+std::vector<uint8_t> serializeShardResult(const ShardResult& result);
+ShardResult deserializeShardResult(std::span<const uint8_t> bytes);
+
+/// FNV-1a of the serialised work: equal for equal work (a retried shard), whatever its file.
+uint64_t shardWorkDigest(const ShardWork& work);
+
+/// 64-bit FNV-1a of `bytes`.
+uint64_t fnv1a64(std::span<const uint8_t> bytes);
+
+/// A whole file, or std::runtime_error("cannot read '<path>'").
+std::vector<uint8_t> readFileBytes(const std::string& path);
+/// Writes through a temporary file renamed into place, so a reader (or a merge racing a
+/// retried shard) never sees half a file; std::runtime_error when it cannot.
+void writeFileBytes(const std::string& path, std::span<const uint8_t> bytes);
+
+}  // namespace partita

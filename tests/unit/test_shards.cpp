@@ -1,0 +1,175 @@
+// One job as shards (shard/): the merge of N shards, in any order and with a shard given twice,
+// is bit-identical to the one-process render with the same settings, for every algorithm that
+// can be sharded; results of another plan, another shard count, damaged files and clashing
+// shard indices are refused with a clear error; settings that cannot be sharded are refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <random>
+
+#include "gltf/gltf_loader.h"
+#include "render_helpers.h"
+#include "shard/sharded_render.h"
+
+namespace partita {
+namespace {
+
+RenderScene loadScene(const std::string& name) {
+    return RenderScene(
+        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/" + name + "/" + name + ".gltf"));
+}
+
+bool sameBits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+void expectSameBits(const LayeredImage& a, const LayeredImage& b) {
+    EXPECT_TRUE(sameBits(a.combined, b.combined));
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (size_t i = 0; i < a.layers.size(); ++i) {
+        EXPECT_EQ(a.layers[i].name, b.layers[i].name);
+        EXPECT_TRUE(sameBits(a.layers[i].image, b.layers[i].image)) << a.layers[i].name;
+    }
+}
+
+struct Harness {
+    explicit Harness(const RenderScene& scene, int threads = 2)
+        : pool(threads), env{scene, pool, cancel, observer} {}
+    ThreadPool pool;
+    std::atomic<bool> cancel{false};
+    RenderObserver observer;
+    ShardEnvironment env;
+};
+
+struct Case {
+    const char* algorithm;
+    BudgetKind kind;
+    double budget;
+};
+
+RenderSettings settingsOf(const Case& c) {
+    RenderSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.budgetKind = c.kind;
+    s.budget = c.budget;
+    s.seed = 7;
+    s.bootstrapSamples = 4000;
+    s.previewIntervalSeconds = 0;
+    return s;
+}
+
+class ShardedRender : public testing::TestWithParam<Case> {};
+
+TEST_P(ShardedRender, MergeIsBitIdenticalToOneProcessForAnyShardCountAndOrder) {
+    const Case c = GetParam();
+    RenderScene scene = loadScene("cornell-glass");
+    const RenderSettings settings = settingsOf(c);
+    const RenderResult one = test::renderWith(scene, c.algorithm, settings, 2);
+    for (uint32_t shards : {1u, 2u, 7u}) {
+        SCOPED_TRACE(testing::Message() << shards << " shards");
+        Harness h(scene, shards == 2 ? 1 : 2);  // the thread count must not matter either
+        ShardPlan plan = planShardedRender(h.env, c.algorithm, settings, shards, "scene", 1);
+        ASSERT_EQ(plan.shards, shards);
+        // Through the file formats, as the shards of a cluster job travel.
+        plan = deserializeShardPlan(serializeShardPlan(plan));
+        std::vector<ShardResult> results;
+        for (uint32_t i = 0; i < plan.shards; ++i)
+            results.push_back(
+                deserializeShardResult(serializeShardResult(renderPlannedShard(h.env, plan, i))));
+        std::vector<size_t> order(results.size());
+        for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::shuffle(order.begin(), order.end(), std::mt19937(shards));
+        ShardMerger merger(plan);
+        for (size_t i : order) EXPECT_TRUE(merger.add(results[i]));
+        EXPECT_FALSE(merger.add(results[order.front()]));  // a retried shard: merged once
+        ASSERT_TRUE(merger.complete());
+        const RenderResult merged = resolveShardedRender(h.env, plan, merger.work());
+        expectSameBits(merged.image, one.image);
+        EXPECT_EQ(merged.stats.values.at("rays"), one.stats.values.at("rays"));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Algorithms, ShardedRender,
+                         testing::Values(Case{"pt", BudgetKind::SamplesPerPixel, 9},
+                                         Case{"bdpt", BudgetKind::SamplesPerPixel, 7},
+                                         Case{"mlt", BudgetKind::MutationsPerPixel, 6}),
+                         [](const auto& info) { return std::string(info.param.algorithm); });
+
+TEST(ShardedRender, MismatchedShardsAreRefused) {
+    RenderScene scene = loadScene("cornell-glass");
+    Harness h(scene);
+    const RenderSettings settings = settingsOf({"pt", BudgetKind::SamplesPerPixel, 4});
+    const ShardPlan plan = planShardedRender(h.env, "pt", settings, 3, "scene", 1);
+    RenderSettings otherSeed = settings;
+    otherSeed.seed = 8;
+    const ShardPlan other = planShardedRender(h.env, "pt", otherSeed, 3, "scene", 1);
+    ASSERT_NE(plan.id(), other.id());
+
+    ShardMerger merger(plan);
+    ShardResult foreign = renderPlannedShard(h.env, other, 0);
+    EXPECT_THROW(merger.add(foreign), std::invalid_argument);  // another job's shard
+    ShardResult mine = renderPlannedShard(h.env, plan, 1);
+    ShardResult wrongCount = renderPlannedShard(h.env, plan, 1);
+    wrongCount.shards = 4;
+    EXPECT_THROW(merger.add(wrongCount), std::invalid_argument);
+    EXPECT_TRUE(merger.add(mine));
+    ShardResult clash = renderPlannedShard(h.env, plan, 2);
+    clash.shard = 1;  // shard 2's work claiming to be shard 1
+    EXPECT_THROW(merger.add(clash), std::invalid_argument);
+    EXPECT_EQ(merger.mergedCount(), 1u);
+    EXPECT_EQ(merger.missing(), (std::vector<uint32_t>{0, 2}));
+    EXPECT_THROW(renderPlannedShard(h.env, plan, 3), std::invalid_argument);
+
+    // Damaged files: every truncation and a flipped byte anywhere fail the checksum.
+    std::vector<uint8_t> bytes = serializeShardResult(mine);
+    for (size_t cut : {size_t(0), size_t(7), bytes.size() / 2, bytes.size() - 1})
+        EXPECT_THROW(deserializeShardResult(std::span(bytes).first(cut)), std::invalid_argument);
+    std::vector<uint8_t> flipped = bytes;
+    flipped[bytes.size() / 3] ^= 1;
+    EXPECT_THROW(deserializeShardResult(flipped), std::invalid_argument);
+    std::vector<uint8_t> otherVersion = bytes;
+    otherVersion[4] ^= 0x10;  // the version field
+    EXPECT_THROW(deserializeShardResult(otherVersion), std::invalid_argument);
+    std::vector<uint8_t> planBytes = serializeShardPlan(plan);
+    EXPECT_THROW(deserializeShardPlan(std::span(planBytes).first(planBytes.size() - 1)),
+                 std::invalid_argument);
+    EXPECT_THROW(deserializeShardPlan(bytes), std::invalid_argument);  // a shard is not a plan
+}
+
+TEST(ShardedRender, WhatCannotBeShardedIsRefused) {
+    RenderScene scene = loadScene("cornell-glass");
+    Harness h(scene);
+    RenderSettings timed = settingsOf({"pt", BudgetKind::Seconds, 1});
+    EXPECT_THROW(planShardedRender(h.env, "pt", timed, 2, "scene", 1), std::invalid_argument);
+    RenderSettings mltTimed = settingsOf({"mlt", BudgetKind::Seconds, 1});
+    EXPECT_THROW(planShardedRender(h.env, "mlt", mltTimed, 2, "scene", 1), std::invalid_argument);
+    RenderSettings spp = settingsOf({"pt", BudgetKind::SamplesPerPixel, 3});
+    EXPECT_THROW(planShardedRender(h.env, "pt", spp, 0, "scene", 1), std::invalid_argument);
+    EXPECT_THROW(planShardedRender(h.env, "warp", spp, 2, "scene", 1), std::invalid_argument);
+    // More shards than samples per pixel: clamped, every shard has work.
+    EXPECT_EQ(planShardedRender(h.env, "pt", spp, 10, "scene", 1).shards, 3u);
+}
+
+TEST(ShareRange, CoversEverythingOnceAndEvenly) {
+    for (uint64_t total : {0ull, 1ull, 5ull, 64ull, 1001ull})
+        for (uint32_t parts : {1u, 2u, 7u}) {
+            uint64_t next = 0, smallest = UINT64_MAX, largest = 0;
+            for (uint32_t p = 0; p < parts; ++p) {
+                ShareRange r = shareRange(total, parts, p);
+                EXPECT_EQ(r.first, next);
+                next = r.end;
+                smallest = std::min(smallest, r.end - r.first);
+                largest = std::max(largest, r.end - r.first);
+            }
+            EXPECT_EQ(next, total);
+            EXPECT_LE(largest - smallest, 1u);
+        }
+    EXPECT_THROW(shareRange(5, 2, 2), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace partita

@@ -1,0 +1,173 @@
+#include "shard_commands.h"
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+#include "frontend/progress_bar.h"
+#include "gltf/gltf_loader.h"
+#include "image_io.h"
+#include "render_scene.h"
+#include "renderer.h"
+#include "scene_environment.h"
+#include "shard/sharded_render.h"
+#include "thread_pool.h"
+
+namespace fs = std::filesystem;
+
+namespace partita {
+
+namespace {
+
+class QuietObserver : public RenderObserver {};
+
+class BarObserver : public RenderObserver {
+  public:
+    explicit BarObserver(ProgressBar& bar) : bar_(bar) {}
+    void onProgress(const RenderProgress& p) override { bar_.update(p); }
+
+  private:
+    ProgressBar& bar_;
+};
+
+/// The scene of a plan, checked against the digest taken when the plan was made.
+RenderScene loadPlannedScene(const ShardPlan& plan) {
+    if (fnv1a64(readFileBytes(plan.scene)) != plan.sceneDigest)
+        throw std::runtime_error("scene '" + plan.scene + "' has changed since the plan was made");
+    SceneData data = loadGltfFile(plan.scene);
+    attachEnvironment(data, plan.settings.environment);
+    return RenderScene(std::move(data));
+}
+
+ShardPlan readPlan(const std::string& path) {
+    try {
+        return deserializeShardPlan(readFileBytes(path));
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error("'" + path + "': " + e.what());
+    }
+}
+
+void checkOutputFolder(const std::string& file) {
+    fs::path parent = fs::absolute(file).parent_path();
+    if (!fs::is_directory(parent))
+        throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
+}
+
+std::optional<uint32_t> parseIndex(const char* text) {
+    if (!text || !*text) return std::nullopt;
+    char* end = nullptr;
+    unsigned long v = std::strtoul(text, &end, 10);
+    if (*end != '\0' || v > UINT32_MAX) return std::nullopt;
+    return uint32_t(v);
+}
+
+}  // namespace
+
+std::optional<uint32_t> shardIndexFromEnvironment() {
+    for (const char* name : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
+        const char* value = std::getenv(name);
+        if (!value) continue;
+        if (auto index = parseIndex(value)) return index;
+        throw std::invalid_argument(std::string("$") + name + " is not a shard index: '" + value +
+                                    "'");
+    }
+    return std::nullopt;
+}
+
+int runPlanCommand(const PlanCommand& command, RenderOptions& options, bool quiet) {
+    if (std::string err = finalizeRenderOptions(options); !err.empty())
+        throw std::invalid_argument(err);
+    if (command.shards == 0) throw std::invalid_argument("--shards must be at least 1");
+    checkOutputFolder(command.out);
+    const std::string scenePath = fs::absolute(command.scene).lexically_normal().string();
+    const uint64_t digest = fnv1a64(readFileBytes(scenePath));
+    SceneData data = loadGltfFile(scenePath);
+    for (const auto& w : data.warnings) spdlog::warn("{}", w);
+    attachEnvironment(data, options.settings.environment);
+    RenderScene scene(std::move(data));
+    ThreadPool pool(options.threads);
+    std::atomic<bool> cancel{false};
+    ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
+    BarObserver barObserver(bar);
+    QuietObserver quietObserver;
+    RenderObserver& observer = quiet ? static_cast<RenderObserver&>(quietObserver) : barObserver;
+    ShardPlan plan = planShardedRender({scene, pool, cancel, observer}, options.algorithm,
+                                       options.settings, command.shards, scenePath, digest);
+    bar.finish();
+    std::vector<uint8_t> bytes = serializeShardPlan(plan);
+    writeFileBytes(command.out, bytes);
+    if (!quiet)
+        std::fprintf(stderr, "wrote %s: %s, %u shards, plan %016llx, %zu bytes\n",
+                     command.out.c_str(), plan.algorithm.c_str(), plan.shards,
+                     static_cast<unsigned long long>(plan.id()), bytes.size());
+    return 0;
+}
+
+int runShardCommand(const ShardCommand& command, bool quiet) {
+    const ShardPlan plan = readPlan(command.plan);
+    std::optional<uint32_t> shard = command.shard ? command.shard : shardIndexFromEnvironment();
+    if (!shard)
+        throw std::invalid_argument(
+            "no shard index: give --shard I (or set SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX)");
+    checkOutputFolder(command.out);
+    RenderScene scene = loadPlannedScene(plan);
+    ThreadPool pool(command.threads);
+    std::atomic<bool> cancel{false};
+    ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
+    BarObserver barObserver(bar);
+    QuietObserver quietObserver;
+    RenderObserver& observer = quiet ? static_cast<RenderObserver&>(quietObserver) : barObserver;
+    ShardResult result = renderPlannedShard({scene, pool, cancel, observer}, plan, *shard);
+    bar.finish();
+    writeFileBytes(command.out, serializeShardResult(result));
+    if (!quiet)
+        std::fprintf(stderr, "wrote %s: shard %u of %u\n", command.out.c_str(), *shard,
+                     plan.shards);
+    return 0;
+}
+
+int runMergeCommand(const MergeCommand& command, bool quiet) {
+    const ShardPlan plan = readPlan(command.plan);
+    checkOutputFolder(command.out);
+    std::string png = command.png.empty() ? fs::path(command.out).replace_extension(".png").string()
+                                          : command.png;
+    checkOutputFolder(png);
+    ShardMerger merger(plan);
+    for (const std::string& path : command.shards) {
+        try {
+            if (!merger.add(deserializeShardResult(readFileBytes(path))) && !quiet)
+                std::fprintf(stderr, "%s: that shard was merged already; skipped\n", path.c_str());
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error("'" + path + "': " + e.what());
+        }
+    }
+    if (!merger.complete()) {
+        std::string list;
+        for (uint32_t i : merger.missing()) list += (list.empty() ? "" : ", ") + std::to_string(i);
+        if (!command.allowPartial || merger.mergedCount() == 0)
+            throw std::runtime_error("missing shards " + list + " of " +
+                                     std::to_string(plan.shards));
+        spdlog::warn("partial merge: missing shards {}", list);
+    }
+    RenderScene scene = loadPlannedScene(plan);
+    ThreadPool pool(1);
+    std::atomic<bool> cancel{false};
+    QuietObserver observer;
+    RenderResult result =
+        resolveShardedRender({scene, pool, cancel, observer}, plan, merger.work());
+    result.stats.values["shards"] = double(plan.shards);
+    result.stats.values["shards_merged"] = double(merger.mergedCount());
+    writeExr(command.out, result.image,
+             describeRender(plan.algorithm, plan.settings, result.stats));
+    writePng(png, result.image.combined, autoExposure(result.image.combined));
+    if (!quiet)
+        std::fprintf(stderr, "wrote %s and %s from %zu of %u shards\n", command.out.c_str(),
+                     png.c_str(), merger.mergedCount(), plan.shards);
+    return 0;
+}
+
+}  // namespace partita
