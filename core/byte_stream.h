@@ -29,6 +29,16 @@ class ByteWriter {
     void putString(const std::string& s) {
         putBytes({reinterpret_cast<const uint8_t*>(s.data()), s.size()});
     }
+    /// An unsigned LEB128 varint: 7 bits a byte, small values in few bytes.
+    void putVarint(uint64_t v) {
+        while (v >= 0x80) {
+            bytes.push_back(uint8_t(v | 0x80));
+            v >>= 7;
+        }
+        bytes.push_back(uint8_t(v));
+    }
+    /// A signed value as a zigzag varint (small magnitudes of either sign in few bytes).
+    void putSignedVarint(int64_t v) { putVarint((uint64_t(v) << 1) ^ uint64_t(v >> 63)); }
     /// Raw bytes, no length.
     void putRaw(const void* data, size_t size) {
         const auto* p = static_cast<const uint8_t*>(data);
@@ -56,6 +66,20 @@ class ByteReader {
     std::string getString() {
         std::span<const uint8_t> s = getRaw(get<uint64_t>());
         return {reinterpret_cast<const char*>(s.data()), s.size()};
+    }
+    uint64_t getVarint() {
+        uint64_t v = 0;
+        for (int shift = 0; shift < 64; shift += 7) {
+            need(1);
+            const uint8_t b = bytes_[at_++];
+            v |= uint64_t(b & 0x7f) << shift;
+            if (!(b & 0x80)) return v;
+        }
+        fail("bad varint");
+    }
+    int64_t getSignedVarint() {
+        const uint64_t v = getVarint();
+        return int64_t(v >> 1) ^ -int64_t(v & 1);
     }
     /// The next `n` bytes, in place.
     std::span<const uint8_t> getRaw(uint64_t n) {

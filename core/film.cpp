@@ -429,7 +429,16 @@ uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_r
 
 namespace {
 constexpr uint32_t kFilmMagic = 0x4d4c4650;  // "PFLM"
-constexpr uint32_t kFilmVersion = 1;
+constexpr uint32_t kFilmVersion = 2;         // 2: sums as zigzag varints (a third of the bytes)
+
+void putSums(ByteWriter& w, const FixedRgb* sums, size_t count) {
+    for (size_t i = 0; i < count; ++i)
+        for (uint64_t c : sums[i].c) w.putSignedVarint(int64_t(c));
+}
+void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
+    for (size_t i = 0; i < count; ++i)
+        for (uint64_t& c : sums[i].c) c = uint64_t(r.getSignedVarint());
+}
 
 PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
     if (count > PathType::kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
@@ -442,7 +451,7 @@ PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
 
 // Per tile: the combined sums, then the tile's types in PathType order (so that the bytes do
 // not depend on the order in which types reached it), each with a bit mask of its allocated
-// blocks and those blocks.
+// blocks and those blocks. Sums are zigzag varints: most are zero or far below 2^63.
 std::vector<uint8_t> Film::serialize() const {
     ByteWriter w;
     w.put(kFilmMagic);
@@ -451,7 +460,7 @@ std::vector<uint8_t> Film::serialize() const {
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
     for (const auto& tile : tiles_) {
-        w.putRaw(tile->combined.data(), sizeof tile->combined);
+        putSums(w, tile->combined.data(), tile->combined.size());
         std::vector<const Tile::TypeBuffer*> sorted;
         for (const auto& t : tile->types) sorted.push_back(&t);
         std::sort(sorted.begin(), sorted.end(),
@@ -465,7 +474,7 @@ std::vector<uint8_t> Film::serialize() const {
                 if (t->blocks[b]) mask = uint16_t(mask | (1u << b));
             w.put(mask);
             for (const Block* b : t->blocks)
-                if (b) w.putRaw(b->data(), sizeof *b);
+                if (b) putSums(w, b->data(), b->size());
         }
     }
     return std::move(w.bytes);
@@ -482,8 +491,7 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
     Film film(w, h);
     film.dropped_ = r.get<uint64_t>();
     for (auto& tile : film.tiles_) {
-        std::memcpy(tile->combined.data(), r.getRaw(sizeof tile->combined).data(),
-                    sizeof tile->combined);
+        getSums(r, tile->combined.data(), tile->combined.size());
         uint32_t types = r.get<uint32_t>();
         for (uint32_t k = 0; k < types; ++k) {
             uint64_t specular = r.get<uint64_t>();
@@ -496,8 +504,7 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
             for (size_t b = 0; b < buffer.blocks.size(); ++b) {
                 if (!((mask >> b) & 1u)) continue;
                 buffer.blocks[b] = tile->arena.allocate();
-                std::memcpy(buffer.blocks[b]->data(), r.getRaw(sizeof(Block)).data(),
-                            sizeof(Block));
+                getSums(r, buffer.blocks[b]->data(), buffer.blocks[b]->size());
             }
         }
     }

@@ -24,7 +24,7 @@ struct ShardPlan {
     uint32_t shards = 1;
     std::vector<uint8_t> state;  // Shardable::plan's bytes
 
-    /// Identifies the plan: a 64-bit FNV-1a hash of its serialised form.
+    /// Identifies the plan: the checksum of its serialised form.
     uint64_t id() const;
 };
 
@@ -35,16 +35,18 @@ struct ShardResult {
     uint64_t planId = 0;
     uint32_t shard = 0, shards = 0;
     ShardWork work;
+    uint64_t checksum = 0;  // set by deserializeShardResult: its file's checksum
 };
 
 std::vector<uint8_t> serializeShardResult(const ShardResult& result);
 ShardResult deserializeShardResult(std::span<const uint8_t> bytes);
 
-/// FNV-1a of the serialised work: equal for equal work (a retried shard), whatever its file.
-uint64_t shardWorkDigest(const ShardWork& work);
+/// The checksum a shard result's file ends with: read from the file when it came from one,
+/// else computed by serialising it. Equal for equal results (a retried shard).
+uint64_t shardResultChecksum(const ShardResult& result);
 
-/// 64-bit FNV-1a of `bytes`.
-uint64_t fnv1a64(std::span<const uint8_t> bytes);
+/// A fast 64-bit checksum of `bytes` (against truncation and damage, not an adversary).
+uint64_t fileChecksum(std::span<const uint8_t> bytes);
 
 /// A whole file, or std::runtime_error("cannot read '<path>'").
 std::vector<uint8_t> readFileBytes(const std::string& path);

@@ -74,7 +74,7 @@ ShardResult renderPlannedShard(const ShardEnvironment& env, const ShardPlan& pla
     return result;
 }
 
-bool ShardMerger::add(const ShardResult& result) {
+uint64_t ShardMerger::admit(const ShardResult& result) const {
     if (result.planId != planId_)
         throw std::invalid_argument("shard " + std::to_string(result.shard) +
                                     " belongs to another plan (another job or plan version)");
@@ -82,13 +82,20 @@ bool ShardMerger::add(const ShardResult& result) {
         throw std::invalid_argument("shard " + std::to_string(result.shard) + " of " +
                                     std::to_string(result.shards) + " does not match the plan's " +
                                     std::to_string(shards_) + " shards");
-    // The digest of the work (films, counts, sums) tells a retried task from a clash.
-    const uint64_t digest = shardWorkDigest(result.work);
+    // With the plan and the index equal, the checksum of the result tells a retried task (the
+    // same bits) from a clash.
+    const uint64_t digest = shardResultChecksum(result);
     if (auto it = merged_.find(result.shard); it != merged_.end()) {
-        if (it->second == digest) return false;
+        if (it->second == digest) return 0;
         throw std::invalid_argument("shard " + std::to_string(result.shard) +
                                     " was merged already with different content");
     }
+    return digest == 0 ? 1 : digest;
+}
+
+bool ShardMerger::add(const ShardResult& result) {
+    const uint64_t digest = admit(result);
+    if (digest == 0) return false;
     if (merged_.empty()) {
         work_.films.clear();
         for (const Film& f : result.work.films) work_.films.emplace_back(f.width(), f.height());
@@ -96,6 +103,14 @@ bool ShardMerger::add(const ShardResult& result) {
         work_.sums.clear();
     }
     work_.add(result.work);
+    merged_[result.shard] = digest;
+    return true;
+}
+
+bool ShardMerger::add(ShardResult&& result) {
+    if (!merged_.empty()) return add(static_cast<const ShardResult&>(result));
+    const uint64_t digest = admit(result);
+    work_ = std::move(result.work);
     merged_[result.shard] = digest;
     return true;
 }

@@ -44,15 +44,20 @@ class ShardMerger {
     /// the same content (a retried task). std::invalid_argument, changing nothing, for a result
     /// of another plan, another shard count, or a shard index merged with other content.
     bool add(const ShardResult& result);
+    /// The same, taking the result's films instead of copying them when it is the first.
+    bool add(ShardResult&& result);
     std::vector<uint32_t> missing() const;
     bool complete() const { return merged_.size() == shards_; }
     size_t mergedCount() const { return merged_.size(); }
     const ShardWork& work() const { return work_; }
 
   private:
+    /// Checks `result` against the plan and what is merged; its checksum, or 0 when that shard
+    /// was merged already with the same content.
+    uint64_t admit(const ShardResult& result) const;
     uint64_t planId_;
     uint32_t shards_;
-    std::map<uint32_t, uint64_t> merged_;  // shard index -> digest of its work
+    std::map<uint32_t, uint64_t> merged_;  // shard index -> checksum of its result
     ShardWork work_;
 };
 

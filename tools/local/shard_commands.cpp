@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "clock.h"
 #include "frontend/progress_bar.h"
 #include "gltf/gltf_loader.h"
 #include "image_io.h"
@@ -36,7 +37,7 @@ class BarObserver : public RenderObserver {
 
 /// The scene of a plan, checked against the digest taken when the plan was made.
 RenderScene loadPlannedScene(const ShardPlan& plan) {
-    if (fnv1a64(readFileBytes(plan.scene)) != plan.sceneDigest)
+    if (fileChecksum(readFileBytes(plan.scene)) != plan.sceneDigest)
         throw std::runtime_error("scene '" + plan.scene + "' has changed since the plan was made");
     SceneData data = loadGltfFile(plan.scene);
     attachEnvironment(data, plan.settings.environment);
@@ -84,7 +85,7 @@ int runPlanCommand(const PlanCommand& command, RenderOptions& options, bool quie
     if (command.shards == 0) throw std::invalid_argument("--shards must be at least 1");
     checkOutputFolder(command.out);
     const std::string scenePath = fs::absolute(command.scene).lexically_normal().string();
-    const uint64_t digest = fnv1a64(readFileBytes(scenePath));
+    const uint64_t digest = fileChecksum(readFileBytes(scenePath));
     SceneData data = loadGltfFile(scenePath);
     for (const auto& w : data.warnings) spdlog::warn("{}", w);
     attachEnvironment(data, options.settings.environment);
@@ -136,10 +137,14 @@ int runMergeCommand(const MergeCommand& command, bool quiet) {
     std::string png = command.png.empty() ? fs::path(command.out).replace_extension(".png").string()
                                           : command.png;
     checkOutputFolder(png);
+    const auto start = Clock::now();
+    uint64_t bytesRead = 0;
     ShardMerger merger(plan);
     for (const std::string& path : command.shards) {
         try {
-            if (!merger.add(deserializeShardResult(readFileBytes(path))) && !quiet)
+            std::vector<uint8_t> bytes = readFileBytes(path);
+            bytesRead += bytes.size();
+            if (!merger.add(deserializeShardResult(bytes)) && !quiet)
                 std::fprintf(stderr, "%s: that shard was merged already; skipped\n", path.c_str());
         } catch (const std::invalid_argument& e) {
             throw std::runtime_error("'" + path + "': " + e.what());
@@ -153,20 +158,27 @@ int runMergeCommand(const MergeCommand& command, bool quiet) {
                                      std::to_string(plan.shards));
         spdlog::warn("partial merge: missing shards {}", list);
     }
+    const double mergeSeconds = secondsSince(start);
     RenderScene scene = loadPlannedScene(plan);
     ThreadPool pool(1);
     std::atomic<bool> cancel{false};
     QuietObserver observer;
     RenderResult result =
         resolveShardedRender({scene, pool, cancel, observer}, plan, merger.work());
+    const double resolveSeconds = secondsSince(start) - mergeSeconds;
     result.stats.values["shards"] = double(plan.shards);
     result.stats.values["shards_merged"] = double(merger.mergedCount());
     writeExr(command.out, result.image,
              describeRender(plan.algorithm, plan.settings, result.stats));
     writePng(png, result.image.combined, autoExposure(result.image.combined));
+    const double writeSeconds = secondsSince(start) - mergeSeconds - resolveSeconds;
     if (!quiet)
-        std::fprintf(stderr, "wrote %s and %s from %zu of %u shards\n", command.out.c_str(),
-                     png.c_str(), merger.mergedCount(), plan.shards);
+        std::fprintf(stderr,
+                     "wrote %s and %s from %zu of %u shards: read and merged %sB in %.2f s, "
+                     "loaded the scene and resolved in %.2f s, wrote in %.2f s\n",
+                     command.out.c_str(), png.c_str(), merger.mergedCount(), plan.shards,
+                     humanCount(double(bytesRead)).c_str(), mergeSeconds, resolveSeconds,
+                     writeSeconds);
     return 0;
 }
 
