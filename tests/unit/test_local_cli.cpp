@@ -6,11 +6,11 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "image_bits.h"
 #include "image_io.h"
 
 namespace fs = std::filesystem;
@@ -97,11 +97,6 @@ TEST(LocalCli, BadInputIsOneLineAndNonZero) {
         "nonexistent-dir");
 }
 
-bool sameBits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
-
 // The scale-out commands as a cluster runs them: plan once, each shard from its array index in
 // the environment, merge in any order; the EXR equals the one-process render bit for bit.
 TEST(LocalCli, ShardsFromTheArrayIndexMergeIntoTheOneProcessRender) {
@@ -127,11 +122,7 @@ TEST(LocalCli, ShardsFromTheArrayIndexMergeIntoTheOneProcessRender) {
     const std::string merged = (dir / "merged.exr").string();
     r = runLocal("merge --plan " + plan + shards + " --quiet --out " + merged);
     ASSERT_EQ(r.exitCode, 0) << r.stderrText;
-    const LayeredImage a = readExr(one), b = readExr(merged);
-    EXPECT_TRUE(sameBits(a.combined, b.combined));
-    ASSERT_EQ(a.layers.size(), b.layers.size());
-    for (size_t i = 0; i < a.layers.size(); ++i)
-        EXPECT_TRUE(sameBits(a.layers[i].image, b.layers[i].image)) << a.layers[i].name;
+    test::expectSameBits(readExr(one), readExr(merged));
 
     // Wrong, missing and mismatched shards: one line each.
     const std::string s0 = (dir / "s0.shard").string(), s1 = (dir / "s1.shard").string();

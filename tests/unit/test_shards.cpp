@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstring>
 #include <random>
 
 #include "gltf/gltf_loader.h"
+#include "image_bits.h"
 #include "render_helpers.h"
 #include "shard/sharded_render.h"
 
@@ -21,19 +21,7 @@ RenderScene loadScene(const std::string& name) {
         loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/" + name + "/" + name + ".gltf"));
 }
 
-bool sameBits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
-
-void expectSameBits(const LayeredImage& a, const LayeredImage& b) {
-    EXPECT_TRUE(sameBits(a.combined, b.combined));
-    ASSERT_EQ(a.layers.size(), b.layers.size());
-    for (size_t i = 0; i < a.layers.size(); ++i) {
-        EXPECT_EQ(a.layers[i].name, b.layers[i].name);
-        EXPECT_TRUE(sameBits(a.layers[i].image, b.layers[i].image)) << a.layers[i].name;
-    }
-}
+using test::expectSameBits;
 
 struct Harness {
     explicit Harness(const RenderScene& scene, int threads = 2)

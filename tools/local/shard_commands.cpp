@@ -24,15 +24,24 @@ namespace partita {
 
 namespace {
 
-class QuietObserver : public RenderObserver {};
-
-class BarObserver : public RenderObserver {
+/// What a command renders with: the pool, the cancel flag, and a progress bar unless quiet.
+class CommandRun : public RenderObserver {
   public:
-    explicit BarObserver(ProgressBar& bar) : bar_(bar) {}
-    void onProgress(const RenderProgress& p) override { bar_.update(p); }
+    CommandRun(int threads, bool quiet)
+        : pool(threads), quiet_(quiet), bar_(!quiet && ProgressBar::stderrIsTerminal()) {}
+    void onProgress(const RenderProgress& p) override {
+        if (!quiet_) bar_.update(p);
+    }
+    ShardEnvironment environment(const RenderScene& scene) { return {scene, pool, cancel, *this}; }
+    /// Ends the bar's line before the command prints its own.
+    void finish() { bar_.finish(); }
+
+    ThreadPool pool;
+    std::atomic<bool> cancel{false};
 
   private:
-    ProgressBar& bar_;
+    bool quiet_;
+    ProgressBar bar_;
 };
 
 /// The scene of a plan, checked against the digest taken when the plan was made.
@@ -90,15 +99,10 @@ int runPlanCommand(const PlanCommand& command, RenderOptions& options, bool quie
     for (const auto& w : data.warnings) spdlog::warn("{}", w);
     attachEnvironment(data, options.settings.environment);
     RenderScene scene(std::move(data));
-    ThreadPool pool(options.threads);
-    std::atomic<bool> cancel{false};
-    ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
-    BarObserver barObserver(bar);
-    QuietObserver quietObserver;
-    RenderObserver& observer = quiet ? static_cast<RenderObserver&>(quietObserver) : barObserver;
-    ShardPlan plan = planShardedRender({scene, pool, cancel, observer}, options.algorithm,
-                                       options.settings, command.shards, scenePath, digest);
-    bar.finish();
+    CommandRun run(options.threads, quiet);
+    ShardPlan plan = planShardedRender(run.environment(scene), options.algorithm, options.settings,
+                                       command.shards, scenePath, digest);
+    run.finish();
     std::vector<uint8_t> bytes = serializeShardPlan(plan);
     writeFileBytes(command.out, bytes);
     if (!quiet)
@@ -116,14 +120,9 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
             "no shard index: give --shard I (or set SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX)");
     checkOutputFolder(command.out);
     RenderScene scene = loadPlannedScene(plan);
-    ThreadPool pool(command.threads);
-    std::atomic<bool> cancel{false};
-    ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
-    BarObserver barObserver(bar);
-    QuietObserver quietObserver;
-    RenderObserver& observer = quiet ? static_cast<RenderObserver&>(quietObserver) : barObserver;
-    ShardResult result = renderPlannedShard({scene, pool, cancel, observer}, plan, *shard);
-    bar.finish();
+    CommandRun run(command.threads, quiet);
+    ShardResult result = renderPlannedShard(run.environment(scene), plan, *shard);
+    run.finish();
     writeFileBytes(command.out, serializeShardResult(result));
     if (!quiet)
         std::fprintf(stderr, "wrote %s: shard %u of %u\n", command.out.c_str(), *shard,
@@ -160,11 +159,8 @@ int runMergeCommand(const MergeCommand& command, bool quiet) {
     }
     const double mergeSeconds = secondsSince(start);
     RenderScene scene = loadPlannedScene(plan);
-    ThreadPool pool(1);
-    std::atomic<bool> cancel{false};
-    QuietObserver observer;
-    RenderResult result =
-        resolveShardedRender({scene, pool, cancel, observer}, plan, merger.work());
+    CommandRun run(1, /*quiet=*/true);
+    RenderResult result = resolveShardedRender(run.environment(scene), plan, merger.work());
     const double resolveSeconds = secondsSince(start) - mergeSeconds;
     result.stats.values["shards"] = double(plan.shards);
     result.stats.values["shards_merged"] = double(merger.mergedCount());
