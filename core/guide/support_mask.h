@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace partita {
@@ -35,6 +36,11 @@ class SupportMasks {
     }
     /// Memory held by the bits.
     size_t bytes() const;
+
+    /// A binary form (for a shard plan); deserialize throws std::invalid_argument on anything
+    /// else.
+    std::vector<uint8_t> serialize() const;
+    static SupportMasks deserialize(std::span<const uint8_t> bytes);
 
   private:
     int width_ = 0, height_ = 0;

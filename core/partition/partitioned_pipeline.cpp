@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "byte_stream.h"
 #include "camera.h"
 #include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
+#include "shard/chain_shards.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -68,15 +70,15 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
     return plan;
 }
 
-/// The combined image (Eq. 9: the sum of the partitions' images) and one layer per partition.
-LayeredImage resolvePartitions(const ChainRunner& runner, const std::vector<Partition>& partitions,
-                               int width, int height) {
+/// The combined image (Eq. 9: the sum of the partitions' images) and one layer per partition;
+/// `imageOf(g)` is partition g's combined image (its type layers are not kept: each would be a
+/// full image, K + 1 times over).
+LayeredImage resolvePartitions(const std::function<Image(uint32_t)>& imageOf,
+                               const std::vector<Partition>& partitions, int width, int height) {
     LayeredImage out;
     out.combined = Image(width, height);
     for (size_t g = 0; g < partitions.size(); ++g) {
-        // The combined image only: a partition's type layers are not kept (each would be a
-        // full image, K + 1 times over).
-        Image image = runner.resolveGroupCombined(uint32_t(g));
+        Image image = imageOf(uint32_t(g));
         if (image.empty()) image = Image(width, height);
         for (size_t i = 0; i < image.rgb.size(); ++i) out.combined.rgb[i] += image.rgb[i];
         out.layers.push_back({partitions[g].label, std::move(image)});
@@ -94,8 +96,18 @@ double acceptanceOf(const ChainRunner& runner, size_t g) {
     return proposed ? double(accepted) / double(proposed) : 0;
 }
 
+/// Partition g's mutations done and acceptance, from a runner or from merged shards.
+struct GroupProgress {
+    std::function<double(size_t)> mutations, acceptance;
+};
+
+GroupProgress progressOf(const ChainRunner& runner) {
+    return {[&runner](size_t g) { return double(runner.mutationsDone(int(g))); },
+            [&runner](size_t g) { return acceptanceOf(runner, g); }};
+}
+
 void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions,
-                       const ChainRunner& runner) {
+                       const GroupProgress& groups) {
     st.values["partitions"] = double(partitions.size());
     for (size_t g = 0; g < partitions.size(); ++g) {
         const Partition& p = partitions[g];
@@ -105,8 +117,8 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         st.values[key + "p"] = p.p;
         st.values[key + "b"] = p.b;
         if (!p.complement) st.values[key + "b_error"] = p.bError;
-        st.values[key + "mutations"] = double(runner.mutationsDone(int(g)));
-        st.values[key + "acceptance"] = acceptanceOf(runner, g);
+        st.values[key + "mutations"] = groups.mutations(g);
+        st.values[key + "acceptance"] = groups.acceptance(g);
     }
 }
 
@@ -127,17 +139,21 @@ std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& p
     return out;
 }
 
-}  // namespace
+/// Everything fixed before the chains run: the partitions, the chain plan, prepare's bytes,
+/// the start-up's statistics, time and rays. (The pre-pass's records are not kept: nothing
+/// after the plan reads them.)
+struct PartitionedStart {
+    std::vector<Partition> partitions;
+    ChainPlan plan;
+    std::vector<uint8_t> prepared;
+    RenderStats stats;
+    double startupSeconds = 0;
+    uint64_t startupRays = 0;
+};
 
-VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
-                                                const Partition& partition) {
-    if (!partition.complement) base.bidirectional.additionWeights = {1.0, 0.0};
-    return base;
-}
-
-RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,
-                               const std::string& algorithm,
-                               const PartitionMutationHook& mutationHook) {
+PartitionedStart startPartitioned(const RenderContext& ctx,
+                                  const PartitionPipelineSettings& settings,
+                                  const std::string& algorithm, PartitionMutations& mutations) {
     const RenderSettings& rs = ctx.settings;
     if (!ctx.camera.isConnectable())
         throw std::invalid_argument(
@@ -154,40 +170,28 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     double prepassSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 
-    std::vector<Partition> partitions = makePartitions(prepass, rs.partitions);
+    PartitionedStart out;
+    out.partitions = makePartitions(prepass, rs.partitions);
     // A time budget has no mutation count: a nominal one only splits the chains' shares.
     uint64_t budget = timed ? (uint64_t(1) << 50) : uint64_t(rs.budget * pixels);
-    std::vector<uint64_t> mutations =
-        allocateMutations(partitions, budget, settings.minMutationsPerChain);
-    ChainPlan plan = planPartitionChains(ctx, sampler, prepass, partitions, mutations, settings);
+    std::vector<uint64_t> perPartition =
+        allocateMutations(out.partitions, budget, settings.minMutationsPerChain);
+    out.plan = planPartitionChains(ctx, sampler, prepass, out.partitions, perPartition, settings);
     RenderStats setupStats;
-    ChainRunner::MutationFactory makeMutations = mutationHook(prepass, partitions, setupStats);
+    out.prepared = mutations.prepare(ctx, prepass, out.partitions, setupStats);
     ctx.throwIfCancelled();
-    // The pre-pass, the plan and the hook's own set-up (guided's guides) come before the chains:
-    // a time budget's chains get what is left.
-    double startupSeconds = secondsSince(start);
-    auto restriction = [&](uint32_t group) -> PathRestriction {
-        const Partition& p = partitions[group];
-        return [p](const PathType& t) { return p.holds(t); };
-    };
-    ChainRunner runner(ctx, plan, makeMutations, restriction, settings.roundMutations);
-    runChainsWithPreviews(
-        ctx, runner, plan, startupSeconds,
-        [&](ThreadPool*) { return resolvePartitions(runner, partitions, rs.width, rs.height); },
-        [&](RenderStats& st) { addPartitionStats(st, partitions, runner); },
-        [&](ProgressReporter& progress) {
-            progress.setPartitions(partitionProgress(partitions, runner));
-        });
+    // The pre-pass, the plan and the mutations' own set-up (guided's guides) come before the
+    // chains: a time budget's chains get what is left.
+    out.startupSeconds = secondsSince(start);
+    out.startupRays = prepass.rays;
 
-    RenderResult result;
-    result.image = resolvePartitions(runner, partitions, rs.width, rs.height);
-    RenderStats& st = result.stats;
+    RenderStats& st = out.stats;
     st.labels["prepass"] = why;
     st.values["prepass_samples"] = double(samples);
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;
-    // Half B's path records, alive from the pre-pass to the end of the render (allocated: the
+    // Half B's path records, alive from the pre-pass to the end of the plan (allocated: the
     // vector's capacity).
     st.values["prepass_records"] = double(prepass.candidatesB.size());
     st.values["prepass_record_bytes"] =
@@ -197,9 +201,194 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     st.values["burn_in"] = double(settings.burnIn);
     for (const auto& [key, value] : setupStats.values) st.values[key] = value;
     for (const auto& [key, label] : setupStats.labels) st.labels[key] = label;
-    st.values["startup_seconds"] = startupSeconds;
-    addChainStats(st, runner, plan, secondsSince(start), startupSeconds, prepass.rays, pixels);
-    addPartitionStats(st, partitions, runner);
+    st.values["startup_seconds"] = out.startupSeconds;
+    return out;
+}
+
+ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& partitions) {
+    return [&partitions](uint32_t group) -> PathRestriction {
+        const Partition& p = partitions[group];
+        return [p](const PathType& t) { return p.holds(t); };
+    };
+}
+
+// The shard plan's state: the chain plan, the partitions, prepare's bytes, the start-up's
+// statistics and rays.
+void putPartition(ByteWriter& w, const Partition& p) {
+    w.putString(p.label);
+    w.put(uint64_t(p.types.size()));
+    for (const PathType& t : p.types) {
+        w.put(t.specularMask());
+        w.put(uint16_t(t.scatteringVertices()));
+    }
+    w.put(uint8_t(p.complement));
+    w.put(p.gamma);
+    w.put(p.p);
+    w.put(p.b);
+    w.put(p.bError);
+}
+
+Partition getPartition(ByteReader& r) {
+    Partition p;
+    p.label = r.getString();
+    uint64_t types = r.get<uint64_t>();
+    for (uint64_t i = 0; i < types; ++i) {
+        uint64_t mask = r.get<uint64_t>();
+        uint16_t count = r.get<uint16_t>();
+        if (count > PathType::kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
+            r.fail("bad path type");
+        PathType t;
+        for (int v = 0; v < count; ++v) t = t.withVertex((mask >> v) & 1u);
+        p.types.push_back(t);
+    }
+    p.complement = r.get<uint8_t>() != 0;
+    p.gamma = r.get<double>();
+    p.p = r.get<double>();
+    p.b = r.get<double>();
+    p.bError = r.get<double>();
+    return p;
+}
+
+std::vector<uint8_t> serializeStart(const PartitionedStart& s) {
+    ByteWriter w;
+    w.putBytes(serializeChainPlan(s.plan));
+    w.put(uint64_t(s.partitions.size()));
+    for (const Partition& p : s.partitions) putPartition(w, p);
+    w.putBytes(s.prepared);
+    w.put(uint64_t(s.stats.values.size()));
+    for (const auto& [key, value] : s.stats.values) {
+        w.putString(key);
+        w.put(value);
+    }
+    w.put(uint64_t(s.stats.labels.size()));
+    for (const auto& [key, label] : s.stats.labels) {
+        w.putString(key);
+        w.putString(label);
+    }
+    w.put(s.startupSeconds);
+    w.put(s.startupRays);
+    return std::move(w.bytes);
+}
+
+PartitionedStart deserializeStart(std::span<const uint8_t> bytes) {
+    ByteReader r(bytes, "partitioned plan");
+    PartitionedStart s;
+    s.plan = deserializeChainPlan(r.getBytes());
+    uint64_t partitions = r.get<uint64_t>();
+    for (uint64_t i = 0; i < partitions; ++i) s.partitions.push_back(getPartition(r));
+    if (s.partitions.size() != s.plan.groups.size()) r.fail("partitions and groups differ");
+    s.prepared = r.getBytes();
+    uint64_t values = r.get<uint64_t>();
+    for (uint64_t i = 0; i < values; ++i) {
+        std::string key = r.getString();
+        s.stats.values[key] = r.get<double>();
+    }
+    uint64_t labels = r.get<uint64_t>();
+    for (uint64_t i = 0; i < labels; ++i) {
+        std::string key = r.getString();
+        s.stats.labels[key] = r.getString();
+    }
+    s.startupSeconds = r.get<double>();
+    s.startupRays = r.get<uint64_t>();
+    if (!r.atEnd()) r.fail("trailing bytes");
+    return s;
+}
+
+}  // namespace
+
+VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
+                                                const Partition& partition) {
+    if (!partition.complement) base.bidirectional.additionWeights = {1.0, 0.0};
+    return base;
+}
+
+RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,
+                               const std::string& algorithm, PartitionMutations& mutations) {
+    const RenderSettings& rs = ctx.settings;
+    auto start = Clock::now();
+    const PartitionedStart st = startPartitioned(ctx, settings, algorithm, mutations);
+    const std::vector<Partition>& partitions = st.partitions;
+    // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
+    const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, st.prepared);
+    ChainRunner runner(ctx, st.plan, factory, restrictionsOf(partitions), settings.roundMutations);
+    auto imageOf = [&](uint32_t g) { return runner.resolveGroupCombined(g); };
+    runChainsWithPreviews(
+        ctx, runner, st.plan, st.startupSeconds,
+        [&](ThreadPool*) { return resolvePartitions(imageOf, partitions, rs.width, rs.height); },
+        [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
+        [&](ProgressReporter& progress) {
+            progress.setPartitions(partitionProgress(partitions, runner));
+        });
+
+    RenderResult result;
+    result.image = resolvePartitions(imageOf, partitions, rs.width, rs.height);
+    result.stats = st.stats;
+    addChainStats(result.stats, runner, st.plan, secondsSince(start), st.startupSeconds,
+                  st.startupRays, double(rs.width) * rs.height);
+    addPartitionStats(result.stats, partitions, progressOf(runner));
+    return result;
+}
+
+std::vector<uint8_t> PartitionedShards::plan(const RenderContext& ctx) {
+    if (ctx.settings.budgetKind != BudgetKind::MutationsPerPixel)
+        throw std::invalid_argument("a sharded " + algorithm_ +
+                                    " job needs a mutations-per-pixel budget (--mpp): a time "
+                                    "budget is not reproducible across machines");
+    return serializeStart(startPartitioned(ctx, settings_, algorithm_, mutations_));
+}
+
+uint32_t PartitionedShards::maxShards(const RenderContext&, std::span<const uint8_t> plan) const {
+    return uint32_t(std::max<size_t>(1, deserializeStart(plan).plan.chains.size()));
+}
+
+ShardWork PartitionedShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> bytes,
+                                         uint32_t shard, uint32_t shards) {
+    const PartitionedStart st = deserializeStart(bytes);
+    const ChainPlan part = chainShardPlan(st.plan, shard, shards);
+    const ChainRunner::MutationFactory factory =
+        mutations_.factory(ctx, st.partitions, st.prepared);
+    ChainRunner runner(ctx, part, factory, restrictionsOf(st.partitions), settings_.roundMutations);
+    ProgressReporter progress(ctx.observer, "render", "mutations", double(part.mutations()));
+    runner.run(progress, 0);
+    progress.flush();
+    ShardWork work = chainShardWork(runner, part);
+    for (size_t g = 0; g < st.partitions.size(); ++g)
+        for (const auto& [name, m] : runner.mutationStats(int(g))) {
+            const std::string key = "partition_" + std::to_string(g) + "_";
+            work.sums[key + "proposed"] += double(m.proposed);
+            work.sums[key + "accepted"] += double(m.accepted);
+        }
+    return work;
+}
+
+RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
+                                        const ShardWork& merged) {
+    const PartitionedStart st = deserializeStart(bytes);
+    const RenderSettings& rs = ctx.settings;
+    if (merged.films.size() != st.partitions.size())
+        throw std::invalid_argument("merged work has " + std::to_string(merged.films.size()) +
+                                    " films for " + std::to_string(st.partitions.size()) +
+                                    " partitions");
+    auto imageOf = [&](uint32_t g) {
+        return merged.films[g].resolveCombined(
+            ChainRunner::filmScale(st.plan.groups[g].b, rs.width, rs.height, merged.counts[g]));
+    };
+    auto sum = [&](const std::string& key) {
+        auto it = merged.sums.find(key);
+        return it == merged.sums.end() ? 0.0 : it->second;
+    };
+    GroupProgress groups{[&](size_t g) { return double(merged.counts[g]); },
+                         [&](size_t g) {
+                             const std::string key = "partition_" + std::to_string(g) + "_";
+                             double proposed = sum(key + "proposed");
+                             return proposed > 0 ? sum(key + "accepted") / proposed : 0.0;
+                         }};
+    RenderResult result;
+    result.image = resolvePartitions(imageOf, st.partitions, rs.width, rs.height);
+    result.stats = st.stats;
+    addMergedChainStats(result.stats, merged, st.plan, double(rs.width) * rs.height);
+    result.stats.values["rays"] += double(st.startupRays);
+    addPartitionStats(result.stats, st.partitions, groups);
     return result;
 }
 

@@ -3,13 +3,15 @@
 // with one group per partition (starts resampled from half B, burn-in, seeds: data, so images do
 // not depend on the thread count), the chains restricted to their partitions under the job's
 // budget with previews (mcmc/chain_render.h), one layer per partition and their sum (Eq. 9), and
-// the statistics. What differs between the algorithms is each partition's mutations: a hook
-// sees the pre-pass and the partitions (still in the "prepass" phase, cancellable) and returns
-// the chains' mutation factory.
+// the statistics. What differs between the algorithms is each partition's mutations
+// (PartitionMutations): after the pre-pass and the partitions (still in the "prepass" phase,
+// cancellable) it prepares what its mutations read, as bytes a shard plan can carry, and makes
+// the chains' mutation factory from them. PartitionedShards runs the same pipeline as shards.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "mcmc/veach_mutations.h"
 #include "partition/partition.h"
 #include "partition/prepass.h"
+#include "shard/shardable.h"
 
 namespace partita {
 
@@ -30,10 +33,22 @@ struct PartitionPipelineSettings {
     uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
 };
 
-/// Given the pre-pass and the partitions, the factory of each partition's (group's) chain
-/// mutations; it may add its own statistics to `stats` (they go into the result's).
-using PartitionMutationHook = std::function<ChainRunner::MutationFactory(
-    const PrepassResult& prepass, const std::vector<Partition>& partitions, RenderStats& stats)>;
+/// Each partition's (group's) chain mutations, for one algorithm.
+class PartitionMutations {
+  public:
+    virtual ~PartitionMutations() = default;
+    /// Runs once, after the pre-pass and the partitions: what the mutations read beyond the
+    /// partitions, as bytes (guided: its support masks); it may add statistics to `stats`.
+    virtual std::vector<uint8_t> prepare(const RenderContext&, const PrepassResult&,
+                                         const std::vector<Partition>&, RenderStats&) {
+        return {};
+    }
+    /// The mutation factory of the chains, from the partitions and prepare's bytes (in this
+    /// process or in a shard's); the same bytes must give the same mutations.
+    virtual ChainRunner::MutationFactory factory(const RenderContext& ctx,
+                                                 const std::vector<Partition>& partitions,
+                                                 std::span<const uint8_t> prepared) = 0;
+};
 
 /// Veach's mutation settings for the chains of `partition`: those of a one-type partition try
 /// only bidirectional mutations that keep the path's length (another length is another type,
@@ -43,7 +58,27 @@ VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
 
 /// Renders ctx's job with the partitioned chains; `algorithm` names it in errors.
 RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,
-                               const std::string& algorithm,
-                               const PartitionMutationHook& mutations);
+                               const std::string& algorithm, PartitionMutations& mutations);
+
+/// The pipeline as shards (shard/shardable.h): the plan is the pre-pass's outcome (partitions,
+/// b_i, P(i), the chain plan, prepare's bytes, the start-up statistics); shard i runs a range
+/// of the chains; the merged films resolve as the one-process render's.
+class PartitionedShards : public Shardable {
+  public:
+    PartitionedShards(const PartitionPipelineSettings& settings, std::string algorithm,
+                      PartitionMutations& mutations)
+        : settings_(settings), algorithm_(std::move(algorithm)), mutations_(mutations) {}
+    std::vector<uint8_t> plan(const RenderContext& ctx) override;
+    ShardWork renderShard(const RenderContext& ctx, std::span<const uint8_t> plan, uint32_t shard,
+                          uint32_t shards) override;
+    RenderResult resolve(const RenderContext& ctx, std::span<const uint8_t> plan,
+                         const ShardWork& merged) override;
+    uint32_t maxShards(const RenderContext& ctx, std::span<const uint8_t> plan) const override;
+
+  private:
+    const PartitionPipelineSettings& settings_;
+    std::string algorithm_;
+    PartitionMutations& mutations_;
+};
 
 }  // namespace partita

@@ -84,7 +84,9 @@ TEST_P(ShardedRender, MergeIsBitIdenticalToOneProcessForAnyShardCountAndOrder) {
 INSTANTIATE_TEST_SUITE_P(Algorithms, ShardedRender,
                          testing::Values(Case{"pt", BudgetKind::SamplesPerPixel, 9},
                                          Case{"bdpt", BudgetKind::SamplesPerPixel, 7},
-                                         Case{"mlt", BudgetKind::MutationsPerPixel, 6}),
+                                         Case{"mlt", BudgetKind::MutationsPerPixel, 6},
+                                         Case{"partitioned", BudgetKind::MutationsPerPixel, 6},
+                                         Case{"guided", BudgetKind::MutationsPerPixel, 6}),
                          [](const auto& info) { return std::string(info.param.algorithm); });
 
 TEST(ShardedRender, MismatchedShardsAreRefused) {
@@ -133,8 +135,12 @@ TEST(ShardedRender, WhatCannotBeShardedIsRefused) {
     Harness h(scene);
     RenderSettings timed = settingsOf({"pt", BudgetKind::Seconds, 1});
     EXPECT_THROW(planShardedRender(h.env, "pt", timed, 2, "scene", 1), std::invalid_argument);
-    RenderSettings mltTimed = settingsOf({"mlt", BudgetKind::Seconds, 1});
-    EXPECT_THROW(planShardedRender(h.env, "mlt", mltTimed, 2, "scene", 1), std::invalid_argument);
+    for (const char* mcmc : {"mlt", "partitioned", "guided"}) {
+        RenderSettings mcmcTimed = settingsOf({mcmc, BudgetKind::Seconds, 1});
+        EXPECT_THROW(planShardedRender(h.env, mcmc, mcmcTimed, 2, "scene", 1),
+                     std::invalid_argument)
+            << mcmc;
+    }
     RenderSettings spp = settingsOf({"pt", BudgetKind::SamplesPerPixel, 3});
     EXPECT_THROW(planShardedRender(h.env, "pt", spp, 0, "scene", 1), std::invalid_argument);
     EXPECT_THROW(planShardedRender(h.env, "warp", spp, 2, "scene", 1), std::invalid_argument);

@@ -14,7 +14,7 @@
 
 namespace partita {
 
-namespace {
+namespace {}  // namespace
 
 /// What the guided perturbations of every chain read: built once after the pre-pass, alive as
 /// long as the chains' mutation factory.
@@ -23,7 +23,16 @@ struct Guides {
     SupportMasks masks;  // per partition, D_i > epsilon (relative to its mean)
     std::vector<ImageGuide> perPartition;
     std::vector<PixelOffset> delta;
+
+    /// perPartition and delta, from gbuffer and masks.
+    void link(const RenderSettings& rs, size_t partitions) {
+        perPartition.clear();
+        for (size_t g = 0; g < partitions; ++g) perPartition.emplace_back(gbuffer, masks, g);
+        delta = guideOffsets(rs.guideCandidates, rs.guideRadius);
+    }
 };
+
+namespace {
 
 std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResult& prepass,
                                     const std::vector<Partition>& partitions,
@@ -45,13 +54,11 @@ std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResul
     double denoiseSeconds = secondsSince(start) - gbufferSeconds;
     for (std::vector<float>& d : denoised) d = relativeToMean(d);
     guides->masks = SupportMasks(denoised, rs.width, rs.height, rs.guideEpsilon);
-    for (size_t g = 0; g < partitions.size(); ++g) {
-        guides->perPartition.emplace_back(guides->gbuffer, guides->masks, g);
+    guides->link(rs, partitions.size());
+    for (size_t g = 0; g < partitions.size(); ++g)
         stats.values["partition_" + std::to_string(g) + "_guide_support"] =
-            guides->perPartition.back().supportFraction();
-    }
+            guides->perPartition[g].supportFraction();
     size_t guideBytes = guides->gbuffer.bytes() + guides->masks.bytes();
-    guides->delta = guideOffsets(rs.guideCandidates, rs.guideRadius);
     progress.advance(1);
     progress.flush();
     stats.values["guide_candidates"] = double(rs.guideCandidates);
@@ -66,22 +73,47 @@ std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResul
 
 }  // namespace
 
-RenderResult GuidedAlgorithm::render(const RenderContext& ctx) {
-    auto hook = [&](const PrepassResult& prepass, const std::vector<Partition>& partitions,
-                    RenderStats& stats) -> ChainRunner::MutationFactory {
-        std::shared_ptr<Guides> guides =
-            buildGuides(ctx, prepass, partitions, settings_.denoise, stats);
-        return [&, guides, partitions](uint32_t group) {
-            VeachMutationSettings m =
-                partitionMutationSettings(settings_.mutations, partitions[group]);
-            auto guided = std::make_unique<GuidedPerturbation>(
-                ctx.scene, ctx.camera, guides->perPartition[group], guides->delta,
-                lensPixelRange(ctx.camera, m));
-            return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m,
-                                      std::move(guided));
-        };
+std::vector<uint8_t> GuidedMutations::prepare(const RenderContext& ctx,
+                                              const PrepassResult& prepass,
+                                              const std::vector<Partition>& partitions,
+                                              RenderStats& stats) {
+    prepared_ = buildGuides(ctx, prepass, partitions, settings_.denoise, stats);
+    return prepared_->masks.serialize();
+}
+
+ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
+                                                      const std::vector<Partition>& partitions,
+                                                      std::span<const uint8_t> prepared) {
+    std::shared_ptr<Guides> guides = std::move(prepared_);
+    if (!guides) {  // a shard: the masks from the plan, the G-buffer traced again
+        guides = std::make_shared<Guides>();
+        guides->masks = SupportMasks::deserialize(prepared);
+        if (guides->masks.partitions() != partitions.size() ||
+            guides->masks.width() != ctx.settings.width ||
+            guides->masks.height() != ctx.settings.height)
+            throw std::invalid_argument("guided plan: the support masks do not fit the job");
+        guides->gbuffer = buildGBuffer(ctx);
+        guides->link(ctx.settings, partitions.size());
+    }
+    return [this, &ctx, guides, partitions](uint32_t group) {
+        VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partitions[group]);
+        auto guided =
+            std::make_unique<GuidedPerturbation>(ctx.scene, ctx.camera, guides->perPartition[group],
+                                                 guides->delta, lensPixelRange(ctx.camera, m));
+        return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m,
+                                  std::move(guided));
     };
-    return renderPartitioned(ctx, settings_, "guided", hook);
+}
+
+GuidedAlgorithm::GuidedAlgorithm(GuidedSettings settings)
+    : settings_(std::move(settings)),
+      mutations_(settings_),
+      shards_(settings_, "guided", mutations_) {}
+
+GuidedAlgorithm::~GuidedAlgorithm() = default;
+
+RenderResult GuidedAlgorithm::render(const RenderContext& ctx) {
+    return renderPartitioned(ctx, settings_, "guided", mutations_);
 }
 
 void registerGuided() {

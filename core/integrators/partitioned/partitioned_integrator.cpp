@@ -5,16 +5,23 @@
 
 namespace partita {
 
-RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
-    auto hook = [&](const PrepassResult&, const std::vector<Partition>& partitions,
-                    RenderStats&) -> ChainRunner::MutationFactory {
-        return [&, partitions](uint32_t group) {
-            return makeVeachMutations(
-                ctx.scene, ctx.camera, ctx.settings.maxDepth,
-                partitionMutationSettings(settings_.mutations, partitions[group]));
-        };
+ChainRunner::MutationFactory VeachPartitionMutations::factory(
+    const RenderContext& ctx, const std::vector<Partition>& partitions, std::span<const uint8_t>) {
+    return [this, &ctx, partitions](uint32_t group) {
+        return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth,
+                                  partitionMutationSettings(settings_, partitions[group]));
     };
-    return renderPartitioned(ctx, settings_, "partitioned", hook);
+}
+
+PartitionedAlgorithm::PartitionedAlgorithm(PartitionedSettings settings)
+    : settings_(std::move(settings)),
+      mutations_(settings_.mutations),
+      shards_(settings_, "partitioned", mutations_) {}
+
+PartitionedAlgorithm::~PartitionedAlgorithm() = default;
+
+RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
+    return renderPartitioned(ctx, settings_, "partitioned", mutations_);
 }
 
 void registerPartitioned() {

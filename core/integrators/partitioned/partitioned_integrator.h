@@ -15,13 +15,29 @@
 
 namespace partita {
 
+/// partitioned's mutations: Veach's, a one-type partition's keeping the path's length.
+class VeachPartitionMutations : public PartitionMutations {
+  public:
+    explicit VeachPartitionMutations(const VeachMutationSettings& settings) : settings_(settings) {}
+    ChainRunner::MutationFactory factory(const RenderContext& ctx,
+                                         const std::vector<Partition>& partitions,
+                                         std::span<const uint8_t> prepared) override;
+
+  private:
+    VeachMutationSettings settings_;
+};
+
 class PartitionedAlgorithm : public Algorithm {
   public:
-    explicit PartitionedAlgorithm(PartitionedSettings settings = {}) : settings_(settings) {}
+    explicit PartitionedAlgorithm(PartitionedSettings settings = {});
+    ~PartitionedAlgorithm() override;
     RenderResult render(const RenderContext& ctx) override;
+    Shardable* shardable() override { return &shards_; }
 
   private:
     PartitionedSettings settings_;
+    VeachPartitionMutations mutations_;
+    PartitionedShards shards_;
 };
 
 void registerPartitioned();
