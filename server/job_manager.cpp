@@ -58,8 +58,13 @@ pb::Job fromStored(const StoredJob& s) {
 }  // namespace
 
 JobManager::JobManager(JobStore& store, const SceneSource& scenes, const ServiceLimits& limits,
-                       int threads, int maxJobs)
-    : store_(store), scenes_(scenes), limits_(limits), maxJobs_(maxJobs), pool_(threads) {
+                       int threads, int maxJobs, const ClusterOptions& cluster)
+    : store_(store),
+      scenes_(scenes),
+      limits_(limits),
+      cluster_(cluster),
+      maxJobs_(maxJobs),
+      pool_(threads) {
     // Running jobs together stay within the total (never below one job's limit, so that any
     // accepted job can run): a job waits in the queue until it fits next to the running ones.
     if (limits_.maxTotalJobMemoryBytes > 0)
@@ -351,7 +356,7 @@ void JobManager::removeDeleted(const Job& job) {
 }
 
 void JobManager::runnerLoop() {
-    RunContext context{store_, scenes_, limits_, pool_};
+    RunContext context{store_, scenes_, limits_, pool_, cluster_};
     for (;;) {
         std::shared_ptr<Job> job;
         {

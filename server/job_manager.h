@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "cluster_options.h"
 #include "job.h"
 #include "job_memory.h"
 #include "job_store.h"
@@ -29,7 +30,7 @@ namespace partita::server {
 class JobManager {
   public:
     JobManager(JobStore& store, const SceneSource& scenes, const ServiceLimits& limits, int threads,
-               int maxJobs);
+               int maxJobs, const ClusterOptions& cluster = {});
     ~JobManager();  // shuts down if still running
 
     /// Reads the store back (see above) and starts the runner threads.
@@ -85,6 +86,7 @@ class JobManager {
     JobStore& store_;
     const SceneSource& scenes_;
     const ServiceLimits& limits_;
+    const ClusterOptions cluster_;
     const int maxJobs_;
     ThreadPool pool_;
     Job::Persist persist_;

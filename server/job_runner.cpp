@@ -12,6 +12,7 @@
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_environment.h"
+#include "slurm_shards.h"
 #include "text.h"
 #include "validation.h"
 
@@ -193,6 +194,71 @@ void writeResults(const Job& job, const RunContext& ctx, const ValidatedSpec& v,
     JobStore::writeFileAtomic(dir / kResultMetadata, metadataJson(job, v, result));
 }
 
+/// The folder of a job's Slurm shards, plan and logs.
+fs::path slurmDir(const RunContext& ctx, const Job& job) {
+    return ctx.store.jobDir(job.id()) / "slurm";
+}
+
+/// The scene file the shards of `job` read, or "" (with `why`) when the job renders here
+/// instead: a time budget cannot be sharded; an environment image and an uploaded .gltf with
+/// its resources would have to be written out for the tasks (not done yet). An uploaded .glb is
+/// written into the job's folder.
+std::string shardScenePath(const Job& job, const RunContext& ctx, const ValidatedSpec& v,
+                           std::string& why) {
+    if (v.settings.budgetKind == BudgetKind::Seconds) {
+        why = "a time budget is not reproducible across machines";
+        return {};
+    }
+    if (!v.settings.environment.file.empty()) {
+        why = "environment images are not yet passed to the shards";
+        return {};
+    }
+    const pb::SceneSource& source = job.spec().scene();
+    if (source.has_scene_name()) {
+        grpc::StatusCode code;
+        std::string error;
+        fs::path path = ctx.scenes.resolve(source.scene_name(), code, error);
+        if (path.empty()) throw std::runtime_error(error);
+        return fs::absolute(path).string();
+    }
+    pb::SceneSource upload;
+    if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
+        throw std::runtime_error("the uploaded scene of this job is damaged in the store");
+    if (!upload.has_glb()) {
+        why = "uploaded .gltf scenes with resources are not yet written out for the shards";
+        return {};
+    }
+    fs::path file = slurmDir(ctx, job) / "scene.glb";
+    fs::create_directories(file.parent_path());
+    JobStore::writeFileAtomic(file, upload.glb());
+    return fs::absolute(file).string();
+}
+
+/// Renders the job here, or as shards of a Slurm array under --executor slurm when it can be.
+RenderResult renderJob(Job& job, const RunContext& ctx, const ValidatedSpec& v,
+                       const RenderScene& scene, JobObserver& observer) {
+    std::string why;
+    const std::string scenePath = ctx.cluster.slurm() ? shardScenePath(job, ctx, v, why) : "";
+    if (scenePath.empty()) {
+        if (!why.empty()) spdlog::info("{} renders here, not on Slurm: {}", job.tag(), why);
+        RenderResult result =
+            runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        if (!why.empty()) result.stats.labels["executor"] = "local: " + why;
+        return result;
+    }
+    SlurmJob slurm{ctx.cluster,
+                   slurmDir(ctx, job),
+                   "partita-" + job.id(),
+                   job.tag(),
+                   v.algorithm,
+                   v.settings,
+                   scenePath,
+                   [&job] { return job.cancelReason() == CancelReason::Shutdown; }};
+    RenderResult result = renderOnSlurm(slurm, {scene, ctx.pool, job.cancelFlag(), observer});
+    result.stats.labels["executor"] = "slurm";
+    return result;
+}
+
 /// Ends a job that did not finish: FAILED with `error`, or (error empty) cancelled or re-queued.
 void endUnfinished(Job& job, const Job::Persist& persist, const std::string& error) {
     try {
@@ -244,8 +310,7 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         checkCancel();
 
         JobObserver observer(job, persist);
-        RenderResult result =
-            runRender(scene, v.algorithm, v.settings, ctx.pool, job.cancelFlag(), observer);
+        RenderResult result = renderJob(job, ctx, v, scene, observer);
         job.releasePreviewFrame();
         writeResults(job, ctx, v, result);
         double seconds =
@@ -273,7 +338,10 @@ void runJob(Job& job, const RunContext& ctx, const Job::Persist& persist) {
         std::string msg = e.what();
         endUnfinished(job, persist, msg.empty() ? "unknown error" : msg);
     }
-    if (isTerminal(job.state())) removeUpload(ctx.store, job.id());
+    if (isTerminal(job.state())) {
+        removeUpload(ctx.store, job.id());
+        removeSlurmFiles(slurmDir(ctx, job));
+    }
 }
 
 }  // namespace partita::server

@@ -5,6 +5,7 @@
 // cancel came from a daemon shutdown.
 #pragma once
 
+#include "cluster_options.h"
 #include "job.h"
 #include "job_store.h"
 #include "scene_source.h"
@@ -18,6 +19,7 @@ struct RunContext {
     const SceneSource& scenes;
     const ServiceLimits& limits;
     ThreadPool& pool;
+    const ClusterOptions& cluster;  // --executor local|slurm
 };
 
 /// The file name of an uploaded scene inside the job's folder (a serialized SceneSource).

@@ -24,6 +24,7 @@
 #include "protobuf_log.h"
 #include "scene_source.h"
 #include "server_options.h"
+#include "slurm_shards.h"
 
 using namespace partita;
 using namespace partita::server;
@@ -57,7 +58,8 @@ int run(const ServerOptions& options, const sigset_t& signals) {
 
     JobStore store(options.store);
     SceneSource scenes(options.sceneRoot);
-    JobManager manager(store, scenes, options.limits, options.threads, options.maxJobs);
+    JobManager manager(store, scenes, options.limits, options.threads, options.maxJobs,
+                       options.cluster);
     manager.start();
     Executor executor(2);
     PartitaService service(manager, scenes, options.limits, auth, executor);
@@ -117,6 +119,10 @@ int main(int argc, char** argv) {
     ServerOptions options;
     if (int rc = parseServerOptions(argc, argv, options); rc >= 0) return rc;
     if (std::string err = finalizeServerOptions(options); !err.empty()) {
+        std::fprintf(stderr, "partitad: error: %s\n", err.c_str());
+        return 2;
+    }
+    if (std::string err = checkSlurmExecutor(options.cluster); !err.empty()) {
         std::fprintf(stderr, "partitad: error: %s\n", err.c_str());
         return 2;
     }

@@ -95,6 +95,22 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     app.add_option("--max-store-mb", storeMb,
                    "store size beyond which uploads are refused, MiB (default: half the file "
                    "system's capacity; 0: no limit)");
+    app.add_option("--executor", o.cluster.executor,
+                   "where jobs render: local (this process) or slurm (shards of a Slurm job "
+                   "array, merged here; the store must be on a file system the nodes share)")
+        ->capture_default_str();
+    app.add_option("--slurm-shards", o.cluster.shards, "shards of a job under --executor slurm")
+        ->capture_default_str();
+    app.add_option("--slurm-cpus-per-task", o.cluster.cpusPerTask,
+                   "CPUs of each shard's task (sbatch --cpus-per-task; the worker's threads)")
+        ->capture_default_str();
+    app.add_option("--slurm-partition", o.cluster.partition,
+                   "Slurm partition of the tasks (default: the cluster's)");
+    app.add_option("--slurm-worker", o.cluster.worker,
+                   "the partita-local binary the tasks run (default: beside partitad)");
+    app.add_option("--slurm-poll-seconds", o.cluster.pollSeconds,
+                   "how often squeue and the shard files are checked")
+        ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -134,6 +150,14 @@ std::string finalizeServerOptions(ServerOptions& o) {
     if (l.maxWatchStreams < 1) return "--max-watch-streams must be >= 1";
     if (l.maxDepth < 1) return "--max-depth must be >= 1";
     if (o.store.empty()) return "--store must name a folder";
+    if (o.cluster.executor != "local" && o.cluster.executor != "slurm")
+        return "--executor must be local or slurm, not '" + o.cluster.executor + "'";
+    if (o.cluster.shards < 1 || o.cluster.shards > 100000)
+        return "--slurm-shards must be in 1..100000";
+    if (o.cluster.cpusPerTask < 1 || o.cluster.cpusPerTask > 4096)
+        return "--slurm-cpus-per-task must be in 1..4096";
+    if (!(o.cluster.pollSeconds >= 0.05 && o.cluster.pollSeconds <= 3600))
+        return "--slurm-poll-seconds must be in [0.05, 3600]";
     // The jobs that render at once share the machine: each may have a share of 3/4 of it.
     if (o.limits.maxJobMemoryBytes < 0)
         o.limits.maxJobMemoryBytes = int64_t(physicalMemoryBytes() / 4 * 3 / uint64_t(o.maxJobs));

@@ -1,11 +1,14 @@
 // partitad's command line (DESIGN.md "Command lines"; keep these flags stable):
 //   partitad --listen 127.0.0.1:50051 --store DIR --scene-root DIR [--threads N] [--max-jobs N]
 //            [--tls-cert F --tls-key F --token-file F] [--insecure] [--port-file F] [limits...]
+//            [--executor local|slurm [--slurm-shards N] [--slurm-cpus-per-task N]
+//             [--slurm-partition P] [--slurm-worker PATH] [--slurm-poll-seconds S]]
 #pragma once
 
 #include <filesystem>
 #include <string>
 
+#include "cluster_options.h"
 #include "service_limits.h"
 
 namespace partita::server {
@@ -21,6 +24,7 @@ struct ServerOptions {
     std::filesystem::path portFile;  // where to write the bound port (use with port 0)
     std::string logLevel = "info";
     ServiceLimits limits;
+    ClusterOptions cluster;  // --executor and the --slurm-* flags
 };
 
 /// Parses argv into `out`. Returns -1 to go on, or the exit code to stop with (0 after --help or

@@ -67,25 +67,38 @@ pick_ports() {
     return 1
 }
 
+# Is process $1 alive?  A zombie is not: daemons are re-parented to PID 1,
+# which in a container may be slow to reap them, and kill -0 succeeds on a
+# zombie.
+alive() {
+    local st
+    case $1 in ''|*[!0-9]*) return 1 ;; esac
+    kill -0 "$1" 2>/dev/null || return 1
+    st=$(awk '{print $3}' "/proc/$1/stat" 2>/dev/null)
+    [ "$st" != Z ] && [ "$st" != X ]
+}
+
 # Send TERM to the processes in the given pid files, wait (up to ~15 s) for
 # them to go, KILL the ones that are left, remove the pid files.
 kill_pidfiles() {
-    local f pid pids="" left
+    local f pid pids="" left=""
     for f in "$@"; do
         pid=$(cat "$f" 2>/dev/null)
-        rm -f "$f"
         case $pid in ''|*[!0-9]*) continue ;; esac
         kill -TERM "$pid" 2>/dev/null && pids="$pids $pid"
     done
     for _ in $(seq 1 150); do
         left=''
-        for pid in $pids; do kill -0 "$pid" 2>/dev/null && left="$left $pid"; done
-        [ -z "$left" ] && return 0
+        for pid in $pids; do alive "$pid" && left="$left $pid"; done
+        [ -z "$left" ] && break
         sleep 0.1
     done
-    # shellcheck disable=SC2086  # a list of pids
-    kill -KILL $left 2>/dev/null
-    sleep 0.2
+    if [ -n "$left" ]; then
+        # shellcheck disable=SC2086  # a list of pids
+        kill -KILL $left 2>/dev/null
+        sleep 0.2
+    fi
+    rm -f "$@"
 }
 
 # Is process $1 one of this cluster's (working directory or an open file
@@ -122,13 +135,13 @@ stop_daemons() {
     # Cancel every job first so that slurmd reaps its steps (SIGTERM, then
     # SIGKILL after KillWait), and wait for them to finish (<= ~10 s).
     # (Only with a live controller: clients wait long for a dead one.)
-    if kill -0 "$(cat "$d/run/slurmctld.pid" 2>/dev/null)" 2>/dev/null &&
+    if alive "$(cat "$d/run/slurmctld.pid" 2>/dev/null)" &&
        [ -f "$d/slurm.conf" ]; then
         export SLURM_CONF=$d/slurm.conf
-        jobs=$(timeout 10 squeue -h -o '%A' 2>/dev/null)
+        jobs=$(timeout 5 squeue -h -o '%A' 2>/dev/null)
         if [ -n "$jobs" ]; then
             # shellcheck disable=SC2086  # a list of job ids
-            timeout 10 scancel $jobs 2>/dev/null
+            timeout 5 scancel $jobs 2>/dev/null
             for _ in $(seq 1 50); do
                 [ -z "$(timeout 5 squeue -h -o '%A' 2>/dev/null)" ] && break
                 sleep 0.2
@@ -158,8 +171,8 @@ cmd_start() {
     # use SlurmUser=root so that slurmctld can share it.
     [ "$(id -u)" -eq 0 ] || die "must run as root (slurmd needs root), running as $(id -un)"
 
-    mkdir -p "$DIR" || die "cannot create $DIR"
-    DIR=$(cd "$DIR" && pwd -P) || die "cannot enter $DIR"
+    mkdir -p "$DIR" 2>/dev/null || die "cannot create $DIR"
+    DIR=$(cd "$DIR" 2>/dev/null && pwd -P) || die "cannot enter $DIR"
     [ -e "$DIR/run/slurmctld.pid" ] && die "$DIR already holds a cluster (run: $0 stop $DIR)"
     mkdir -p "$DIR/munge" "$DIR/state" "$DIR/spool" "$DIR/log" "$DIR/run" ||
         die "cannot create sub-directories of $DIR"
@@ -178,6 +191,8 @@ cmd_start() {
     mem=$(( ${mem_kb:-1048576} * 9 / 10 / 1024 ))
     [ "$mem" -ge 1 ] || mem=1
     ports=$(pick_ports) || die "no free TCP port pair found"
+    # SlurmdSpoolDir (slurmd-%n below) exists before slurmd looks for it.
+    mkdir -p "$DIR/spool/slurmd-$host" || die "cannot create $DIR/spool/slurmd-$host"
     ctld_port=${ports% *}
     slurmd_port=${ports#* }
 
@@ -287,7 +302,7 @@ EOF
         for b in munged slurmctld slurmd; do
             pid=$(cat "$DIR/run/$b.pid" 2>/dev/null)
             # The pid file appears shortly after the fork; allow 5 s for it.
-            if { [ -n "$pid" ] && ! kill -0 "$pid" 2>/dev/null; } ||
+            if { [ -n "$pid" ] && ! alive "$pid"; } ||
                { [ -z "$pid" ] && [ "$elapsed" -ge 5 ]; }; then
                 why=$(last_error "$DIR/log/$b.log")
                 die "$b exited${why:+: $why} (see $DIR/log/$b.log)"
