@@ -187,6 +187,31 @@ TEST_F(ServiceSlurm, ARestartedDaemonFindsTheRunningArrayAgain) {
     expectLikeInProcess(*stub, id, "cornell", 64, 48, 128, 6, "pt");
 }
 
+TEST_F(ServiceSlurm, WatchersSeeTheShardsMergedSoFar) {
+    TempDir store;
+    // Two CPUs a task on the cluster's four: the third shard starts when one of the first two
+    // has ended, so a preview of the merged shards comes before the final frame.
+    std::vector<std::string> flags = slurmFlags(3);
+    flags.insert(flags.end(), {"--slurm-cpus-per-task", "2"});
+    Daemon daemon(store.path(), flags);
+    ASSERT_TRUE(daemon.running()) << daemon.log();
+    auto stub = daemon.stub();
+    Submitted job = submit(*stub, sceneSpec("cornell", 64, 48, 48, 8));
+    ASSERT_TRUE(job.status.ok());
+    WatchLog log = watch(*stub, job.id, /*previews=*/true, /*raw=*/true, 120s);
+    ASSERT_TRUE(log.status.ok()) << log.status.error_message();
+    ASSERT_EQ(log.last()->state(), pb::JOB_STATE_DONE) << daemon.log();
+    auto frames = log.frames();
+    ASSERT_GE(frames.size(), 2u) << "a preview of merged shards and the final frame";
+    EXPECT_FALSE(frames.front()->final());
+    EXPECT_TRUE(frames.back()->final());
+    double shardsTotal = 0;
+    for (const pb::JobEvent& e : log.events)
+        if (e.has_progress() && e.progress().unit() == "shards") shardsTotal = e.progress().total();
+    EXPECT_EQ(shardsTotal, 3.0) << "progress counts shards";
+    expectLikeInProcess(*stub, job.id, "cornell", 64, 48, 48, 8, "pt");
+}
+
 TEST(ServiceSlurmOptions, BadExecutorFlagsAreOneLineErrors) {
     TempDir store;
     auto [code, out] = runPartitad({"--store", store.path().string(), "--executor", "cloud"});
