@@ -441,10 +441,8 @@ void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
 }
 
 PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
-    if (count > PathType::kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
-        r.fail("bad path type");
     PathType t;
-    for (int i = 0; i < count; ++i) t = t.withVertex((mask >> i) & 1u);
+    if (!PathType::fromBits(mask, count, t)) r.fail("bad path type");
     return t;
 }
 }  // namespace

@@ -41,6 +41,16 @@ class PathType {
 
     /// Inverse of toString; returns false for anything that is not L[DS]*E.
     static bool parse(const std::string& text, PathType& out);
+    /// The type of `count` scattering vertices with specularMask() `mask` (serialised types);
+    /// false when the count is out of range or the mask has bits at or above it.
+    static bool fromBits(uint64_t mask, int count, PathType& out) {
+        if (count < 0 || count > kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
+            return false;
+        PathType t;
+        for (int i = 0; i < count; ++i) t = t.withVertex((mask >> i) & 1u);
+        out = t;
+        return true;
+    }
 
     uint64_t specularMask() const { return specularMask_; }
     auto operator<=>(const PathType&) const = default;

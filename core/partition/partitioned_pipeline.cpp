@@ -235,10 +235,8 @@ Partition getPartition(ByteReader& r) {
     for (uint64_t i = 0; i < types; ++i) {
         uint64_t mask = r.get<uint64_t>();
         uint16_t count = r.get<uint16_t>();
-        if (count > PathType::kMaxScatteringVertices || (count < 64 && (mask >> count) != 0))
-            r.fail("bad path type");
         PathType t;
-        for (int v = 0; v < count; ++v) t = t.withVertex((mask >> v) & 1u);
+        if (!PathType::fromBits(mask, count, t)) r.fail("bad path type");
         p.types.push_back(t);
     }
     p.complement = r.get<uint8_t>() != 0;
@@ -330,10 +328,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
 }
 
 std::vector<uint8_t> PartitionedShards::plan(const RenderContext& ctx) {
-    if (ctx.settings.budgetKind != BudgetKind::MutationsPerPixel)
-        throw std::invalid_argument("a sharded " + algorithm_ +
-                                    " job needs a mutations-per-pixel budget (--mpp): a time "
-                                    "budget is not reproducible across machines");
+    requireMutationBudget(ctx, algorithm_);
     return serializeStart(startPartitioned(ctx, settings_, algorithm_, mutations_));
 }
 
@@ -344,21 +339,11 @@ uint32_t PartitionedShards::maxShards(const RenderContext&, std::span<const uint
 ShardWork PartitionedShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> bytes,
                                          uint32_t shard, uint32_t shards) {
     const PartitionedStart st = deserializeStart(bytes);
-    const ChainPlan part = chainShardPlan(st.plan, shard, shards);
+    // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
     const ChainRunner::MutationFactory factory =
         mutations_.factory(ctx, st.partitions, st.prepared);
-    ChainRunner runner(ctx, part, factory, restrictionsOf(st.partitions), settings_.roundMutations);
-    ProgressReporter progress(ctx.observer, "render", "mutations", double(part.mutations()));
-    runner.run(progress, 0);
-    progress.flush();
-    ShardWork work = chainShardWork(runner, part);
-    for (size_t g = 0; g < st.partitions.size(); ++g)
-        for (const auto& [name, m] : runner.mutationStats(int(g))) {
-            const std::string key = "partition_" + std::to_string(g) + "_";
-            work.sums[key + "proposed"] += double(m.proposed);
-            work.sums[key + "accepted"] += double(m.accepted);
-        }
-    return work;
+    return runChainShard(ctx, st.plan, shard, shards, factory, restrictionsOf(st.partitions),
+                         settings_.roundMutations);
 }
 
 RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
@@ -379,7 +364,7 @@ RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<cons
     };
     GroupProgress groups{[&](size_t g) { return double(merged.counts[g]); },
                          [&](size_t g) {
-                             const std::string key = "partition_" + std::to_string(g) + "_";
+                             const std::string key = "group_" + std::to_string(g) + "_";
                              double proposed = sum(key + "proposed");
                              return proposed > 0 ? sum(key + "accepted") / proposed : 0.0;
                          }};

@@ -1,6 +1,9 @@
 #include "shard/chain_shards.h"
 
+#include <stdexcept>
+
 #include "mcmc/chain_runner.h"
+#include "progress_reporter.h"
 
 namespace partita {
 
@@ -13,6 +16,32 @@ ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards)
     part.chains.assign(plan.chains.begin() + long(range.first),
                        plan.chains.begin() + long(range.end));
     return part;
+}
+
+void requireMutationBudget(const RenderContext& ctx, const std::string& algorithm) {
+    if (ctx.settings.budgetKind != BudgetKind::MutationsPerPixel)
+        throw std::invalid_argument("a sharded " + algorithm +
+                                    " job needs a mutations-per-pixel budget (--mpp): a time "
+                                    "budget is not reproducible across machines");
+}
+
+ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_t shard,
+                        uint32_t shards, const ChainRunner::MutationFactory& mutations,
+                        const ChainRunner::RestrictionFactory& restrictions,
+                        uint64_t roundMutations) {
+    const ChainPlan part = chainShardPlan(plan, shard, shards);
+    ChainRunner runner(ctx, part, mutations, restrictions, roundMutations);
+    ProgressReporter progress(ctx.observer, "render", "mutations", double(part.mutations()));
+    runner.run(progress, 0);
+    progress.flush();
+    ShardWork work = chainShardWork(runner, part);
+    for (size_t g = 0; g < part.groups.size(); ++g)
+        for (const auto& [name, m] : runner.mutationStats(int(g))) {
+            const std::string key = "group_" + std::to_string(g) + "_";
+            work.sums[key + "proposed"] += double(m.proposed);
+            work.sums[key + "accepted"] += double(m.accepted);
+        }
+    return work;
 }
 
 ShardWork chainShardWork(const ChainRunner& runner, const ChainPlan& plan) {

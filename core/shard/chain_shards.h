@@ -5,17 +5,29 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "mcmc/chain_plan.h"
+#include "mcmc/chain_runner.h"
 #include "shard/shardable.h"
 
 namespace partita {
 
-class ChainRunner;
 struct RenderStats;
 
 /// The plan restricted to shard `shard` of `shards` (groups unchanged, a range of chains).
 ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards);
+
+/// std::invalid_argument unless ctx's budget is mutations per pixel (a time budget is not
+/// reproducible across machines).
+void requireMutationBudget(const RenderContext& ctx, const std::string& algorithm);
+
+/// Runs shard `shard` of `shards` of `plan` (its range of chains) to the end and returns its
+/// work (chainShardWork, plus "group_<g>_proposed" and "group_<g>_accepted" per group).
+ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_t shard,
+                        uint32_t shards, const ChainRunner::MutationFactory& mutations,
+                        const ChainRunner::RestrictionFactory& restrictions,
+                        uint64_t roundMutations);
 
 /// A finished runner's work: one film and one mutation count per group, "rays" (plus
 /// `extraRays`), "proposed_<m>" and "accepted_<m>" per mutation.

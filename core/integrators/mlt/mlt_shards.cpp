@@ -38,10 +38,7 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
 }  // namespace
 
 std::vector<uint8_t> MltShards::plan(const RenderContext& ctx) {
-    if (ctx.settings.budgetKind != BudgetKind::MutationsPerPixel)
-        throw std::invalid_argument(
-            "a sharded mlt job needs a mutations-per-pixel budget (--mpp): a time budget is not "
-            "reproducible across machines");
+    requireMutationBudget(ctx, "mlt");
     MltStart start = startMlt(ctx, settings_);
     return serializeMltPlan({std::move(start.plan), start.bootstrap.rays});
 }
@@ -52,14 +49,9 @@ uint32_t MltShards::maxShards(const RenderContext&, std::span<const uint8_t> pla
 
 ShardWork MltShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> bytes,
                                  uint32_t shard, uint32_t shards) {
-    const MltPlan plan = deserializeMltPlan(bytes);
-    const ChainPlan part = chainShardPlan(plan.chains, shard, shards);
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
-    ChainRunner runner(ctx, part, makeMutations, {}, settings_.roundMutations);
-    ProgressReporter progress(ctx.observer, "render", "mutations", double(part.mutations()));
-    runner.run(progress, 0);
-    progress.flush();
-    return chainShardWork(runner, part);
+    return runChainShard(ctx, deserializeMltPlan(bytes).chains, shard, shards, makeMutations, {},
+                         settings_.roundMutations);
 }
 
 RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
