@@ -2,11 +2,13 @@
 # What sharding costs (issue #14 item 6), with partita-local as a cluster runs it: per algorithm
 # the one-process render, `plan` (its start-up: nothing for pt, the bootstrap for mlt), the
 # shards run as N concurrent processes of THREADS/N threads each (a single-node stand-in for N
-# machines), and `merge`; wall seconds of each step, plan and shard file sizes, and whether the
+# machines; SHARD_THREADS overrides the threads of each), and `merge`; wall seconds of each step, plan and shard file sizes, and whether the
 # merged EXR equals the one-process EXR bit for bit (idiff -fail 0). The speed-up is
 # one-process seconds over plan + slowest concurrent shard + merge.
 #   bench/shard-overhead.sh   (SCENE=cornell-glass SIZE=1280x720 SPP=16 MPP=4 SHARDS="1 2"
-#                              THREADS=$(nproc) ALGORITHMS="pt mlt")
+#                              THREADS=$(nproc) SHARD_THREADS= ALGORITHMS="pt mlt")
+# With THREADS=1 SHARD_THREADS=1 the speed-up is that of N one-core machines over one, up to
+# the cores this machine has.
 set -eu
 cd "$(dirname "$0")/.."
 LOCAL=${PARTITA_LOCAL:-build/tools/local/partita-local}
@@ -33,7 +35,7 @@ for alg in ${ALGORITHMS:-pt mlt}; do
     "$LOCAL" render $job --threads "$THREADS" --quiet --out "$OUT/$alg-one.exr"
     one=$(seconds "$t0" "$(now)")
     for n in ${SHARDS:-1 2}; do
-        per=$((THREADS / n))
+        per=${SHARD_THREADS:-$((THREADS / n))}
         [ "$per" -ge 1 ] || per=1
         rm -f "$OUT/$alg-$n-"*.shard
         t0=$(now)

@@ -266,7 +266,16 @@ RenderResult renderOnSlurm(const SlurmJob& job, const ShardEnvironment& env) {
     ArrayState state;
     const ShardPlan plan = planOrResume(job, env, slurm, state);
     Follower follower(job, env, slurm, plan, state);
-    const ShardMerger& merged = follower.run();
+    const ShardMerger* mergedPointer = nullptr;
+    try {
+        mergedPointer = &follower.run();
+    } catch (const RenderCancelled&) {
+        throw;  // scancel'ed already, or left running for the restart
+    } catch (const std::exception&) {
+        slurm.cancel(state);  // the job fails: its other tasks have nothing left to do
+        throw;
+    }
+    const ShardMerger& merged = *mergedPointer;
     RenderResult result = resolveShardedRender(env, plan, merged.work());
     result.stats.values["shards"] = double(plan.shards);
     result.stats.values["shard_retries"] = double(state.retries.size());
