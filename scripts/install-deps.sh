@@ -39,6 +39,14 @@ if [ ${#required[@]} -gt 0 ]; then
 fi
 if [ ${#optional[@]} -gt 0 ]; then
   echo "installing the Slurm test packages: ${optional[*]}"
+  # munge's postinst makes its key by running a shell as the munge user, which fails where
+  # that user cannot reach / (a chroot with a private root folder); with a key in place it
+  # only sets the key's owner. The tests' cluster uses a key of its own.
+  if [ ! -e /etc/munge/munge.key ]; then
+    $SUDO mkdir -p /etc/munge
+    $SUDO dd if=/dev/urandom of=/etc/munge/munge.key bs=1024 count=1 status=none
+    $SUDO chmod 0400 /etc/munge/munge.key
+  fi
   if ! $SUDO apt-get install -y -qq --no-install-recommends "${optional[@]}"; then
     # Leave dpkg clean (a half-configured package would fail every later install).
     $SUDO dpkg --purge --force-remove-reinstreq "${optional[@]}" >/dev/null 2>&1 || true
