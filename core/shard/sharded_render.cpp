@@ -1,6 +1,7 @@
 #include "shard/sharded_render.h"
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "camera.h"
@@ -74,7 +75,7 @@ ShardResult renderPlannedShard(const ShardEnvironment& env, const ShardPlan& pla
     return result;
 }
 
-uint64_t ShardMerger::admit(const ShardResult& result) const {
+std::optional<uint64_t> ShardMerger::admit(const ShardResult& result) const {
     if (result.planId != planId_)
         throw std::invalid_argument("shard " + std::to_string(result.shard) +
                                     " belongs to another plan (another job or plan version)");
@@ -86,16 +87,16 @@ uint64_t ShardMerger::admit(const ShardResult& result) const {
     // same bits) from a clash.
     const uint64_t digest = shardResultChecksum(result);
     if (auto it = merged_.find(result.shard); it != merged_.end()) {
-        if (it->second == digest) return 0;
+        if (it->second == digest) return std::nullopt;
         throw std::invalid_argument("shard " + std::to_string(result.shard) +
                                     " was merged already with different content");
     }
-    return digest == 0 ? 1 : digest;
+    return digest;
 }
 
 bool ShardMerger::add(const ShardResult& result) {
-    const uint64_t digest = admit(result);
-    if (digest == 0) return false;
+    const std::optional<uint64_t> digest = admit(result);
+    if (!digest) return false;
     if (merged_.empty()) {
         work_.films.clear();
         for (const Film& f : result.work.films) work_.films.emplace_back(f.width(), f.height());
@@ -103,15 +104,15 @@ bool ShardMerger::add(const ShardResult& result) {
         work_.sums.clear();
     }
     work_.add(result.work);
-    merged_[result.shard] = digest;
+    merged_[result.shard] = *digest;
     return true;
 }
 
 bool ShardMerger::add(ShardResult&& result) {
     if (!merged_.empty()) return add(static_cast<const ShardResult&>(result));
-    const uint64_t digest = admit(result);
+    const std::optional<uint64_t> digest = admit(result);  // nothing merged: never a duplicate
     work_ = std::move(result.work);
-    merged_[result.shard] = digest;
+    merged_[result.shard] = *digest;
     return true;
 }
 

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,9 +53,9 @@ class ShardMerger {
     const ShardWork& work() const { return work_; }
 
   private:
-    /// Checks `result` against the plan and what is merged; its checksum, or 0 when that shard
-    /// was merged already with the same content.
-    uint64_t admit(const ShardResult& result) const;
+    /// Checks `result` against the plan and what is merged (std::invalid_argument); its
+    /// checksum, or nothing when that shard was merged already with the same content.
+    std::optional<uint64_t> admit(const ShardResult& result) const;
     uint64_t planId_;
     uint32_t shards_;
     std::map<uint32_t, uint64_t> merged_;  // shard index -> checksum of its result
