@@ -34,6 +34,21 @@ last_error() {
         grep -vE 'pmix|MPI|state file|backup state|No .* state file' | tail -n 1
 }
 
+# The first of them: where a daemon fails to initialise, the cause (e.g. "No
+# filesystem mounted on /sys/fs/cgroup") comes before "initialization failed".
+first_error() {
+    grep -hE 'fatal|error' "$@" 2>/dev/null |
+        grep -vE 'pmix|MPI|state file|backup state|No .* state file' | head -n 1
+}
+
+# Why daemon $1 failed to start: its last line on stdout/stderr, else its log's first error.
+start_failure() {
+    local why
+    why=$(tail -n 1 "$DIR/log/$1.out" 2>/dev/null)
+    [ -n "$why" ] || why=$(first_error "$DIR/log/$1.log")
+    echo "$why"
+}
+
 usage() {
     echo "usage: $0 start DIR | stop DIR" >&2
     exit 2
@@ -286,9 +301,9 @@ EOF
     # -c: fresh state (nothing to recover in a new DIR).  Both daemonize and
     # write their pid files given in slurm.conf.
     slurmctld -c -f "$conf" >"$DIR/log/slurmctld.out" 2>&1 ||
-        die "slurmctld failed: $(tail -n 1 "$DIR/log/slurmctld.out") (see $DIR/log/slurmctld.log)"
+        die "slurmctld failed: $(start_failure slurmctld) (see $DIR/log/slurmctld.log)"
     slurmd -N "$host" -f "$conf" >"$DIR/log/slurmd.out" 2>&1 ||
-        die "slurmd failed: $(tail -n 1 "$DIR/log/slurmd.out") (see $DIR/log/slurmd.log)"
+        die "slurmd failed: $(start_failure slurmd) (see $DIR/log/slurmd.log)"
 
     # --- wait for the node -----------------------------------------------
     # The daemons fork before they bind their ports, so a port clash or a
