@@ -29,6 +29,11 @@ class ByteWriter {
     void putString(const std::string& s) {
         putBytes({reinterpret_cast<const uint8_t*>(s.data()), s.size()});
     }
+    /// A file format's magic number and version, first in every file (ByteReader::expectHeader).
+    void putHeader(uint32_t magic, uint32_t version) {
+        put(magic);
+        put(version);
+    }
     /// An unsigned LEB128 varint: 7 bits a byte, small values in few bytes.
     void putVarint(uint64_t v) {
         while (v >= 0x80) {
@@ -66,6 +71,14 @@ class ByteReader {
     std::string getString() {
         std::span<const uint8_t> s = getRaw(get<uint64_t>());
         return {reinterpret_cast<const char*>(s.data()), s.size()};
+    }
+    /// Reads putHeader's fields: fails with "not a Partita <kind>" or "<kind> version N, this
+    /// build reads M".
+    void expectHeader(uint32_t magic, uint32_t version, const std::string& kind) {
+        if (get<uint32_t>() != magic) fail("not a Partita " + kind);
+        if (uint32_t v = get<uint32_t>(); v != version)
+            fail(kind + " version " + std::to_string(v) + ", this build reads " +
+                 std::to_string(version));
     }
     uint64_t getVarint() {
         uint64_t v = 0;

@@ -36,7 +36,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "byte_stream.h"
+#include "path_type_bytes.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -263,8 +263,9 @@ Film::Pixel Film::pixel(int x, int y) {
 }
 
 void Film::Pixel::add(PathType type, Rgb value) {
-    if (!isFinite(value) ||
-        std::max({std::fabs(value.x), std::fabs(value.y), std::fabs(value.z)}) > kMaxSampleValue) {
+    // One test each for non-finite and too large (a NaN fails every comparison).
+    if (!(std::fabs(value.x) <= kMaxSampleValue && std::fabs(value.y) <= kMaxSampleValue &&
+          std::fabs(value.z) <= kMaxSampleValue)) {
         film_->dropped_.fetch_add(1, std::memory_order_relaxed);
         return;
     }
@@ -440,11 +441,6 @@ void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
         for (uint64_t& c : sums[i].c) c = uint64_t(r.getSignedVarint());
 }
 
-PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
-    PathType t;
-    if (!PathType::fromBits(mask, count, t)) r.fail("bad path type");
-    return t;
-}
 }  // namespace
 
 // Per tile: the combined sums, then the tile's types in PathType order (so that the bytes do
@@ -452,8 +448,7 @@ PathType pathTypeFromBits(ByteReader& r, uint64_t mask, uint16_t count) {
 // blocks and those blocks. Sums are zigzag varints: most are zero or far below 2^63.
 std::vector<uint8_t> Film::serialize() const {
     ByteWriter w;
-    w.put(kFilmMagic);
-    w.put(kFilmVersion);
+    w.putHeader(kFilmMagic, kFilmVersion);
     w.put(int32_t(width_));
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
@@ -465,8 +460,7 @@ std::vector<uint8_t> Film::serialize() const {
                   [](const auto* a, const auto* b) { return a->type < b->type; });
         w.put(uint32_t(sorted.size()));
         for (const auto* t : sorted) {
-            w.put(t->type.specularMask());
-            w.put(uint16_t(t->type.scatteringVertices()));
+            putPathType(w, t->type);
             uint16_t mask = 0;
             for (size_t b = 0; b < t->blocks.size(); ++b)
                 if (t->blocks[b]) mask = uint16_t(mask | (1u << b));
@@ -481,9 +475,7 @@ std::vector<uint8_t> Film::serialize() const {
 Film Film::deserialize(std::span<const uint8_t> bytes) {
     static_assert(kTileBlocks == 16, "the block mask is 16 bits");
     ByteReader r(bytes, "film");
-    if (r.get<uint32_t>() != kFilmMagic) r.fail("not a Partita film");
-    if (uint32_t v = r.get<uint32_t>(); v != kFilmVersion)
-        r.fail("version " + std::to_string(v) + ", expected " + std::to_string(kFilmVersion));
+    r.expectHeader(kFilmMagic, kFilmVersion, "film");
     int32_t w = r.get<int32_t>(), h = r.get<int32_t>();
     if (w < 0 || h < 0 || int64_t(w) * h > (int64_t(1) << 28)) r.fail("bad size");
     Film film(w, h);
@@ -492,9 +484,7 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
         getSums(r, tile->combined.data(), tile->combined.size());
         uint32_t types = r.get<uint32_t>();
         for (uint32_t k = 0; k < types; ++k) {
-            uint64_t specular = r.get<uint64_t>();
-            uint16_t count = r.get<uint16_t>();
-            PathType type = pathTypeFromBits(r, specular, count);
+            const PathType type = getPathType(r);
             if (!tile->types.empty() && !(tile->types.back().type < type))
                 r.fail("types out of order");
             Tile::TypeBuffer& buffer = tile->bufferFor(type);

@@ -27,17 +27,23 @@ CameraDesc resolveCamera(const SceneData& scene, const std::string& name) {
     return scene.cameras[size_t(index)];
 }
 
-RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
-                       const RenderSettings& settings, ThreadPool& pool,
-                       const std::atomic<bool>& cancel, RenderObserver& observer) {
+PreparedRender prepareRender(const RenderScene& scene, const std::string& algorithm,
+                             const RenderSettings& settings) {
     registerBuiltinAlgorithms();
     const auto* entry = AlgorithmRegistry::instance().find(algorithm);
     if (!entry) throw std::invalid_argument("unknown algorithm '" + algorithm + "'");
     if (std::string err = validateSettings(settings); !err.empty())
         throw std::invalid_argument(err);
-    Camera camera(resolveCamera(scene.data(), settings.cameraName), settings.width,
-                  settings.height);
-    auto instance = entry->factory();
+    return {entry->factory(), Camera(resolveCamera(scene.data(), settings.cameraName),
+                                     settings.width, settings.height)};
+}
+
+RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
+                       const RenderSettings& settings, ThreadPool& pool,
+                       const std::atomic<bool>& cancel, RenderObserver& observer) {
+    PreparedRender prepared = prepareRender(scene, algorithm, settings);
+    const Camera& camera = prepared.camera;
+    auto& instance = prepared.algorithm;
     RenderContext ctx{scene, camera, settings, pool, cancel, observer};
     std::string dark = darkSceneWarning(scene);
     if (!dark.empty()) spdlog::warn("{}", dark);

@@ -67,21 +67,22 @@ class JobObserver : public RenderObserver {
     const Job::Persist& persist_;
 };
 
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
+/// The scene uploaded with `job`, as stored in its folder.
+pb::SceneSource readUpload(const Job& job, const RunContext& ctx) {
+    std::ifstream in(ctx.store.jobDir(job.id()) / kUploadFile, std::ios::binary);
     if (!in) throw std::runtime_error("the uploaded scene of this job is missing from the store");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    pb::SceneSource upload;
+    if (!upload.ParseFromString(bytes.str()))
+        throw std::runtime_error("the uploaded scene of this job is damaged in the store");
+    return upload;
 }
 
 SceneData loadScene(const Job& job, const RunContext& ctx) {
     const pb::SceneSource& source = job.spec().scene();
     if (source.has_scene_name()) return ctx.scenes.loadNamed(source.scene_name());
-    pb::SceneSource upload;
-    if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
-        throw std::runtime_error("the uploaded scene of this job is damaged in the store");
-    return SceneSource::loadUpload(upload, uint64_t(ctx.limits.maxUploadBytes));
+    return SceneSource::loadUpload(readUpload(job, ctx), uint64_t(ctx.limits.maxUploadBytes));
 }
 
 /// The job's environment on the scene. An image (a resource of the upload, or a file in the
@@ -99,10 +100,7 @@ void attachJobEnvironment(const Job& job, const RunContext& ctx, const Environme
             bytes = ctx.scenes.readNamedResource(source.scene_name(), env.file,
                                                  uint64_t(ctx.limits.maxUploadBytes));
         } else {
-            pb::SceneSource upload;
-            if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
-                throw std::runtime_error("the uploaded scene of this job is damaged in the store");
-            bytes = SceneSource::readUploadedResource(upload, env.file);
+            bytes = SceneSource::readUploadedResource(readUpload(job, ctx), env.file);
         }
     } catch (const std::exception& e) {
         throw std::runtime_error(std::string("environment image: ") + e.what());
@@ -221,9 +219,7 @@ std::string shardScenePath(const Job& job, const RunContext& ctx, const Validate
         if (path.empty()) throw std::runtime_error(error);
         return fs::absolute(path).string();
     }
-    pb::SceneSource upload;
-    if (!upload.ParseFromString(readFile(ctx.store.jobDir(job.id()) / kUploadFile)))
-        throw std::runtime_error("the uploaded scene of this job is damaged in the store");
+    const pb::SceneSource upload = readUpload(job, ctx);
     if (!upload.has_glb()) {
         why = "uploaded .gltf scenes with resources are not yet written out for the shards";
         return {};

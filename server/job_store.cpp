@@ -11,6 +11,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "file_io.h"
+
 namespace partita::server {
 
 namespace fs = std::filesystem;
@@ -76,13 +78,6 @@ int64_t nowMs() {
     return std::chrono::duration_cast<std::chrono::milliseconds>(
                std::chrono::system_clock::now().time_since_epoch())
         .count();
-}
-
-void fsyncPath(const fs::path& p, int flags) {
-    int fd = ::open(p.c_str(), flags | O_CLOEXEC);
-    if (fd < 0) return;
-    ::fsync(fd);
-    ::close(fd);
 }
 
 }  // namespace
@@ -313,37 +308,7 @@ void JobStore::checkpoint() {
 }
 
 void JobStore::writeFileAtomic(const fs::path& path, std::string_view bytes) {
-    static std::atomic<uint64_t> counter{0};
-    fs::path tmp = path;
-    tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0)
-        throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
-    const char* p = bytes.data();
-    size_t left = bytes.size();
-    while (left > 0) {
-        ssize_t n = ::write(fd, p, left);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            int err = errno;
-            ::close(fd);
-            ::unlink(tmp.c_str());
-            throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(err));
-        }
-        p += n;
-        left -= size_t(n);
-    }
-    if (::fsync(fd) != 0 || ::close(fd) != 0) {
-        int err = errno;
-        ::unlink(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(err));
-    }
-    if (::rename(tmp.c_str(), path.c_str()) != 0) {
-        int err = errno;
-        ::unlink(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(err));
-    }
-    fsyncPath(path.parent_path(), O_RDONLY | O_DIRECTORY);
+    partita::writeFileAtomic(path, {reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
 }
 
 }  // namespace partita::server

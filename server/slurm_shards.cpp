@@ -143,7 +143,7 @@ ShardPlan planOrResume(const SlurmJob& job, const ShardEnvironment& env, const S
     ShardPlan plan =
         planShardedRender(env, job.algorithm, job.settings,
                           uint32_t(std::max(1, job.options.shards)), job.scenePath, digest);
-    writeFileBytes((job.dir / kPlanFile).string(), serializeShardPlan(plan));
+    writeFileAtomic(job.dir / kPlanFile, serializeShardPlan(plan));
     state = ArrayState{};
     state.arrayId = slurm.submit(0, plan.shards - 1);
     saveState(job.dir, state);

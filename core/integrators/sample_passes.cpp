@@ -127,8 +127,7 @@ ShardWork SamplePassShards::renderShard(const RenderContext& ctx, std::span<cons
     const ShareRange share = shareRange(sampleBudget(ctx), shards, shard);
     std::unique_ptr<SamplePassRenderer> renderer = factory_(ctx);
     const double pixels = double(ctx.settings.width) * ctx.settings.height;
-    ProgressReporter progress(ctx.observer, "render", "samples",
-                              pixels * double(share.end - share.first));
+    ProgressReporter progress(ctx.observer, "render", "samples", pixels * double(share.count()));
     const uint64_t passSpp = std::max<uint64_t>(1, renderer->maxPassSamples());
     for (uint64_t first = share.first; first < share.end; first += passSpp) {
         ctx.throwIfCancelled();
@@ -138,8 +137,8 @@ ShardWork SamplePassShards::renderShard(const RenderContext& ctx, std::span<cons
     RenderStats stats;
     renderer->addStats(stats, 0);
     ShardWork work;
-    work.films.push_back(renderer->film());
-    work.counts.push_back(share.end - share.first);
+    work.films.push_back(renderer->takeFilm());
+    work.counts.push_back(share.count());
     work.sums["rays"] = stats.values["rays"];
     return work;
 }

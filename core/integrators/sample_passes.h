@@ -37,6 +37,8 @@ class SamplePassRenderer {
     virtual uint64_t maxPassSamples() const { return 1024; }
     /// A copy of everything rendered so far as one film (resolve(n) is film().resolve(1/n)).
     virtual Film film() const = 0;
+    /// film(), moving it out where the renderer keeps it as one (a finished shard's result).
+    virtual Film takeFilm() { return film(); }
 };
 
 /// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress.

@@ -22,8 +22,7 @@ uint64_t ChainPlan::mutations(int group) const {
 
 std::vector<uint8_t> serializeChainPlan(const ChainPlan& plan) {
     ByteWriter w;
-    w.put(kMagic);
-    w.put(kVersion);
+    w.putHeader(kMagic, kVersion);
     w.put(plan.seed);
     w.put(plan.bootstrapSamples);
     w.put(uint64_t(plan.groups.size()));
@@ -44,10 +43,7 @@ std::vector<uint8_t> serializeChainPlan(const ChainPlan& plan) {
 
 ChainPlan deserializeChainPlan(std::span<const uint8_t> bytes) {
     ByteReader r(bytes, "chain plan");
-    if (r.get<uint32_t>() != kMagic) throw std::invalid_argument("not a chain plan");
-    if (uint32_t v = r.get<uint32_t>(); v != kVersion)
-        throw std::invalid_argument("chain plan version " + std::to_string(v) + ", expected " +
-                                    std::to_string(kVersion));
+    r.expectHeader(kMagic, kVersion, "chain plan");
     ChainPlan plan;
     plan.seed = r.get<uint64_t>();
     plan.bootstrapSamples = r.get<uint64_t>();
@@ -64,15 +60,11 @@ ChainPlan deserializeChainPlan(std::span<const uint8_t> bytes) {
         c.mutations = r.get<uint64_t>();
         c.burnIn = r.get<uint64_t>();
         c.start = r.getBytes();
-        if (c.group >= plan.groups.size()) throw std::invalid_argument("chain plan: bad group");
+        if (c.group >= plan.groups.size()) r.fail("bad group");
         plan.chains.push_back(std::move(c));
     }
-    if (!r.atEnd()) throw std::invalid_argument("chain plan: trailing bytes");
+    if (!r.atEnd()) r.fail("trailing bytes");
     return plan;
-}
-
-uint64_t chainShare(uint64_t total, uint64_t chains, uint64_t k) {
-    return total / chains + (k < total % chains ? 1 : 0);
 }
 
 }  // namespace partita

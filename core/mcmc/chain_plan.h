@@ -40,8 +40,4 @@ struct ChainPlan {
 std::vector<uint8_t> serializeChainPlan(const ChainPlan& plan);
 ChainPlan deserializeChainPlan(std::span<const uint8_t> bytes);
 
-/// `total` mutations spread over `chains` chains as evenly as possible (the first ones get one
-/// more); chain k's count.
-uint64_t chainShare(uint64_t total, uint64_t chains, uint64_t k);
-
 }  // namespace partita

@@ -51,6 +51,8 @@ class ChainRunner {
     /// Only the combined image of group g (no type layers), scaled the same way.
     Image resolveGroupCombined(uint32_t group) const;
     const Film& film(uint32_t group) const { return films_[group]; }
+    /// Group g's film, moved out (a finished shard's result; the runner resolves no more).
+    Film takeFilm(uint32_t group) { return std::move(films_[group]); }
     uint64_t mutationsDone(int group = -1) const;
     /// Per mutation name: proposed, accepted, sum of a, over all chains (of a group if >= 0).
     std::vector<std::pair<std::string, MutationStats>> mutationStats(int group = -1) const;

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "byte_stream.h"
 #include "camera.h"
 #include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
+#include "path_type_bytes.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "shard/chain_shards.h"
@@ -61,7 +61,7 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
             PlannedChain chain;
             chain.group = uint32_t(g);
             chain.stream = stream++;
-            chain.mutations = chainShare(mutations[g], starts.size(), k);
+            chain.mutations = shareRange(mutations[g], starts.size(), k).count();
             chain.burnIn = s.burnIn;
             chain.start = std::move(start);
             plan.chains.push_back(std::move(chain));
@@ -217,10 +217,7 @@ ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& par
 void putPartition(ByteWriter& w, const Partition& p) {
     w.putString(p.label);
     w.put(uint64_t(p.types.size()));
-    for (const PathType& t : p.types) {
-        w.put(t.specularMask());
-        w.put(uint16_t(t.scatteringVertices()));
-    }
+    for (const PathType& t : p.types) putPathType(w, t);
     w.put(uint8_t(p.complement));
     w.put(p.gamma);
     w.put(p.p);
@@ -232,13 +229,7 @@ Partition getPartition(ByteReader& r) {
     Partition p;
     p.label = r.getString();
     uint64_t types = r.get<uint64_t>();
-    for (uint64_t i = 0; i < types; ++i) {
-        uint64_t mask = r.get<uint64_t>();
-        uint16_t count = r.get<uint16_t>();
-        PathType t;
-        if (!PathType::fromBits(mask, count, t)) r.fail("bad path type");
-        p.types.push_back(t);
-    }
+    for (uint64_t i = 0; i < types; ++i) p.types.push_back(getPathType(r));
     p.complement = r.get<uint8_t>() != 0;
     p.gamma = r.get<double>();
     p.p = r.get<double>();

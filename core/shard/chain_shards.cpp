@@ -7,6 +7,25 @@
 
 namespace partita {
 
+namespace {
+
+/// A finished runner's work (its films moved out).
+ShardWork chainShardWork(ChainRunner& runner, const ChainPlan& plan) {
+    ShardWork work;
+    for (uint32_t g = 0; g < plan.groups.size(); ++g) {
+        work.films.push_back(runner.takeFilm(g));
+        work.counts.push_back(runner.mutationsDone(int(g)));
+    }
+    work.sums["rays"] = double(runner.rays());
+    for (const auto& [name, m] : runner.mutationStats()) {
+        work.sums["proposed_" + name] = double(m.proposed);
+        work.sums["accepted_" + name] = double(m.accepted);
+    }
+    return work;
+}
+
+}  // namespace
+
 ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards) {
     ChainPlan part;
     part.seed = plan.seed;
@@ -41,22 +60,6 @@ ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_
             work.sums[key + "proposed"] += double(m.proposed);
             work.sums[key + "accepted"] += double(m.accepted);
         }
-    return work;
-}
-
-ShardWork chainShardWork(const ChainRunner& runner, const ChainPlan& plan) {
-    ShardWork work;
-    for (uint32_t g = 0; g < plan.groups.size(); ++g) {
-        const Film& film = runner.film(g);
-        work.films.emplace_back(film.width(), film.height());
-        work.films.back().merge(film);
-        work.counts.push_back(runner.mutationsDone(int(g)));
-    }
-    work.sums["rays"] = double(runner.rays());
-    for (const auto& [name, m] : runner.mutationStats()) {
-        work.sums["proposed_" + name] = double(m.proposed);
-        work.sums["accepted_" + name] = double(m.accepted);
-    }
     return work;
 }
 

@@ -1,10 +1,6 @@
 #include "shard/shard_files.h"
 
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "byte_stream.h"
@@ -70,13 +66,6 @@ RenderSettings getSettings(ByteReader& r) {
     return s;
 }
 
-void checkHeader(ByteReader& r, uint32_t magic, uint32_t version, const char* kind) {
-    if (r.get<uint32_t>() != magic) r.fail(std::string("not a Partita ") + kind);
-    if (uint32_t v = r.get<uint32_t>(); v != version)
-        r.fail(std::string(kind) + " version " + std::to_string(v) + ", this build reads " +
-               std::to_string(version));
-}
-
 }  // namespace
 
 uint64_t fileChecksum(std::span<const uint8_t> bytes) {
@@ -99,8 +88,7 @@ uint64_t fileChecksum(std::span<const uint8_t> bytes) {
 
 std::vector<uint8_t> serializeShardPlan(const ShardPlan& p) {
     ByteWriter w;
-    w.put(kPlanMagic);
-    w.put(kPlanVersion);
+    w.putHeader(kPlanMagic, kPlanVersion);
     w.putString(p.algorithm);
     w.putString(p.scene);
     w.put(p.sceneDigest);
@@ -112,7 +100,7 @@ std::vector<uint8_t> serializeShardPlan(const ShardPlan& p) {
 
 ShardPlan deserializeShardPlan(std::span<const uint8_t> bytes) {
     ByteReader r(bytes, "shard plan");
-    checkHeader(r, kPlanMagic, kPlanVersion, "shard plan");
+    r.expectHeader(kPlanMagic, kPlanVersion, "shard plan");
     ShardPlan p;
     p.algorithm = r.getString();
     p.scene = r.getString();
@@ -127,9 +115,9 @@ ShardPlan deserializeShardPlan(std::span<const uint8_t> bytes) {
 
 uint64_t ShardPlan::id() const { return fileChecksum(serializeShardPlan(*this)); }
 
-// The body, then the FNV-1a of the body: a truncated or flipped file fails the check before
-// anything in it is trusted.
-static void putWork(ByteWriter& w, const ShardWork& work) {
+namespace {
+
+void putWork(ByteWriter& w, const ShardWork& work) {
     w.put(uint64_t(work.films.size()));
     for (const Film& f : work.films) w.putBytes(f.serialize());
     w.put(uint64_t(work.counts.size()));
@@ -141,10 +129,13 @@ static void putWork(ByteWriter& w, const ShardWork& work) {
     }
 }
 
+}  // namespace
+
+// The body, then its fileChecksum: a truncated or flipped file fails the check before anything
+// in it is trusted.
 std::vector<uint8_t> serializeShardResult(const ShardResult& s) {
     ByteWriter w;
-    w.put(kResultMagic);
-    w.put(kResultVersion);
+    w.putHeader(kResultMagic, kResultVersion);
     w.put(s.planId);
     w.put(s.shard);
     w.put(s.shards);
@@ -155,7 +146,7 @@ std::vector<uint8_t> serializeShardResult(const ShardResult& s) {
 
 ShardResult deserializeShardResult(std::span<const uint8_t> bytes) {
     ByteReader r(bytes, "shard result");
-    checkHeader(r, kResultMagic, kResultVersion, "shard result");
+    r.expectHeader(kResultMagic, kResultVersion, "shard result");
     if (bytes.size() < 16) r.fail("truncated");
     uint64_t stored;
     std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
@@ -189,36 +180,6 @@ uint64_t shardResultChecksum(const ShardResult& result) {
     uint64_t stored;
     std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
     return stored;
-}
-
-std::vector<uint8_t> readFileBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) throw std::runtime_error("cannot read '" + path + "'");
-    const std::streamoff size = in.tellg();
-    if (size < 0) throw std::runtime_error("cannot read '" + path + "'");
-    std::vector<uint8_t> bytes(static_cast<size_t>(size));
-    in.seekg(0);
-    if (!in.read(reinterpret_cast<char*>(bytes.data()), size))
-        throw std::runtime_error("cannot read '" + path + "'");
-    return bytes;
-}
-
-void writeFileBytes(const std::string& path, std::span<const uint8_t> bytes) {
-    const std::string tmp = path + ".partial";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-        if (!out.flush()) {
-            std::remove(tmp.c_str());
-            throw std::runtime_error("cannot write '" + path + "'");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write '" + path + "': " + ec.message());
-    }
 }
 
 }  // namespace partita

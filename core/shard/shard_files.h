@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "file_io.h"  // readFileBytes, writeFileAtomic: how these files are read and written
 #include "render_settings.h"
 #include "shard/shardable.h"
 
@@ -47,11 +48,5 @@ uint64_t shardResultChecksum(const ShardResult& result);
 
 /// A fast 64-bit checksum of `bytes` (against truncation and damage, not an adversary).
 uint64_t fileChecksum(std::span<const uint8_t> bytes);
-
-/// A whole file, or std::runtime_error("cannot read '<path>'").
-std::vector<uint8_t> readFileBytes(const std::string& path);
-/// Writes through a temporary file renamed into place, so a reader (or a merge racing a
-/// retried shard) never sees half a file; std::runtime_error when it cannot.
-void writeFileBytes(const std::string& path, std::span<const uint8_t> bytes);
 
 }  // namespace partita

@@ -12,11 +12,4 @@ void ShardWork::add(const ShardWork& other) {
     for (const auto& [name, value] : other.sums) sums[name] += value;
 }
 
-ShareRange shareRange(uint64_t total, uint32_t parts, uint32_t part) {
-    if (parts == 0 || part >= parts) throw std::invalid_argument("shareRange: bad part");
-    uint64_t base = total / parts, extra = total % parts;
-    uint64_t first = part * base + std::min<uint64_t>(part, extra);
-    return {first, first + base + (part < extra ? 1 : 0)};
-}
-
 }  // namespace partita

@@ -14,6 +14,7 @@
 
 #include "algorithm.h"
 #include "film.h"
+#include "share_range.h"
 
 namespace partita {
 
@@ -43,12 +44,5 @@ class Shardable {
     /// The most shards the plan can be split into (a shard needs at least one chain or sample).
     virtual uint32_t maxShards(const RenderContext& ctx, std::span<const uint8_t> plan) const = 0;
 };
-
-/// [first, end) of `total` items split into `parts` contiguous ranges as evenly as possible
-/// (the first ones get one more): range `part`.
-struct ShareRange {
-    uint64_t first, end;
-};
-ShareRange shareRange(uint64_t total, uint32_t parts, uint32_t part);
 
 }  // namespace partita

@@ -18,13 +18,9 @@ class ShardJob {
   public:
     ShardJob(const ShardEnvironment& env, const std::string& algorithm,
              const RenderSettings& settings)
-        : camera_(makeCamera(env, settings)), ctx_{env.scene, camera_,    settings,
-                                                   env.pool,  env.cancel, env.observer} {
-        registerBuiltinAlgorithms();
-        const auto* entry = AlgorithmRegistry::instance().find(algorithm);
-        if (!entry) throw std::invalid_argument("unknown algorithm '" + algorithm + "'");
-        algorithm_ = entry->factory();
-        shardable_ = algorithm_->shardable();
+        : prepared_(prepareRender(env.scene, algorithm, settings)),
+          ctx_{env.scene, prepared_.camera, settings, env.pool, env.cancel, env.observer},
+          shardable_(prepared_.algorithm->shardable()) {
         if (!shardable_)
             throw std::invalid_argument("algorithm '" + algorithm + "' cannot run as shards");
     }
@@ -32,16 +28,9 @@ class ShardJob {
     Shardable& shards() { return *shardable_; }
 
   private:
-    static Camera makeCamera(const ShardEnvironment& env, const RenderSettings& settings) {
-        if (std::string err = validateSettings(settings); !err.empty())
-            throw std::invalid_argument(err);
-        return Camera(resolveCamera(env.scene.data(), settings.cameraName), settings.width,
-                      settings.height);
-    }
-    Camera camera_;
+    PreparedRender prepared_;
     RenderContext ctx_;
-    std::unique_ptr<Algorithm> algorithm_;
-    Shardable* shardable_ = nullptr;
+    Shardable* shardable_;
 };
 
 }  // namespace

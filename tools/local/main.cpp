@@ -18,9 +18,9 @@
 #include "frontend/render_options.h"
 #include "gltf/gltf_loader.h"
 #include "image_io.h"
+#include "local_run.h"
 #include "render_scene.h"
 #include "renderer.h"
-#include "scene_environment.h"
 #include "shard_commands.h"
 #include "thread_pool.h"
 
@@ -32,25 +32,6 @@ namespace {
 std::atomic<bool> gCancel{false};
 void onSignal(int) { gCancel.store(true); }
 
-class BarObserver : public RenderObserver {
-  public:
-    BarObserver(ProgressBar& bar, bool quiet) : bar_(bar), quiet_(quiet) {}
-    void onProgress(const RenderProgress& p) override {
-        if (!quiet_) bar_.update(p);
-    }
-
-  private:
-    ProgressBar& bar_;
-    bool quiet_;
-};
-
-/// Fail before rendering, not after, when an output cannot be written.
-void checkOutputFolder(const std::string& file) {
-    fs::path parent = fs::absolute(file).parent_path();
-    if (!fs::is_directory(parent))
-        throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
-}
-
 int renderCommand(const std::string& scenePath, RenderOptions& options, const std::string& outPath,
                   std::string pngPath, bool quiet) {
     if (std::string err = finalizeRenderOptions(options); !err.empty())
@@ -58,10 +39,7 @@ int renderCommand(const std::string& scenePath, RenderOptions& options, const st
     if (pngPath.empty()) pngPath = fs::path(outPath).replace_extension(".png").string();
     checkOutputFolder(outPath);
     checkOutputFolder(pngPath);
-    SceneData data = loadGltfFile(scenePath);
-    for (const auto& w : data.warnings) spdlog::warn("{}", w);
-    attachEnvironment(data, options.settings.environment);
-    RenderScene scene(std::move(data));
+    RenderScene scene = loadLocalScene(scenePath, options.settings.environment);
     ThreadPool pool(options.threads);
     ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());
     BarObserver observer(bar, quiet);

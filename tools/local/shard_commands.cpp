@@ -10,11 +10,9 @@
 
 #include "clock.h"
 #include "frontend/progress_bar.h"
-#include "gltf/gltf_loader.h"
 #include "image_io.h"
-#include "render_scene.h"
+#include "local_run.h"
 #include "renderer.h"
-#include "scene_environment.h"
 #include "shard/sharded_render.h"
 #include "thread_pool.h"
 
@@ -25,32 +23,28 @@ namespace partita {
 namespace {
 
 /// What a command renders with: the pool, the cancel flag, and a progress bar unless quiet.
-class CommandRun : public RenderObserver {
+class CommandRun {
   public:
     CommandRun(int threads, bool quiet)
-        : pool(threads), quiet_(quiet), bar_(!quiet && ProgressBar::stderrIsTerminal()) {}
-    void onProgress(const RenderProgress& p) override {
-        if (!quiet_) bar_.update(p);
+        : pool_(threads), bar_(!quiet && ProgressBar::stderrIsTerminal()), observer_(bar_, quiet) {}
+    ShardEnvironment environment(const RenderScene& scene) {
+        return {scene, pool_, cancel_, observer_};
     }
-    ShardEnvironment environment(const RenderScene& scene) { return {scene, pool, cancel, *this}; }
     /// Ends the bar's line before the command prints its own.
     void finish() { bar_.finish(); }
 
-    ThreadPool pool;
-    std::atomic<bool> cancel{false};
-
   private:
-    bool quiet_;
+    ThreadPool pool_;
+    std::atomic<bool> cancel_{false};
     ProgressBar bar_;
+    BarObserver observer_;
 };
 
 /// The scene of a plan, checked against the digest taken when the plan was made.
 RenderScene loadPlannedScene(const ShardPlan& plan) {
     if (fileChecksum(readFileBytes(plan.scene)) != plan.sceneDigest)
         throw std::runtime_error("scene '" + plan.scene + "' has changed since the plan was made");
-    SceneData data = loadGltfFile(plan.scene);
-    attachEnvironment(data, plan.settings.environment);
-    return RenderScene(std::move(data));
+    return loadLocalScene(plan.scene, plan.settings.environment);
 }
 
 ShardPlan readPlan(const std::string& path) {
@@ -59,12 +53,6 @@ ShardPlan readPlan(const std::string& path) {
     } catch (const std::invalid_argument& e) {
         throw std::runtime_error("'" + path + "': " + e.what());
     }
-}
-
-void checkOutputFolder(const std::string& file) {
-    fs::path parent = fs::absolute(file).parent_path();
-    if (!fs::is_directory(parent))
-        throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
 }
 
 std::optional<uint32_t> parseIndex(const char* text) {
@@ -95,16 +83,13 @@ int runPlanCommand(const PlanCommand& command, RenderOptions& options, bool quie
     checkOutputFolder(command.out);
     const std::string scenePath = fs::absolute(command.scene).lexically_normal().string();
     const uint64_t digest = fileChecksum(readFileBytes(scenePath));
-    SceneData data = loadGltfFile(scenePath);
-    for (const auto& w : data.warnings) spdlog::warn("{}", w);
-    attachEnvironment(data, options.settings.environment);
-    RenderScene scene(std::move(data));
+    RenderScene scene = loadLocalScene(scenePath, options.settings.environment);
     CommandRun run(options.threads, quiet);
     ShardPlan plan = planShardedRender(run.environment(scene), options.algorithm, options.settings,
                                        command.shards, scenePath, digest);
     run.finish();
     std::vector<uint8_t> bytes = serializeShardPlan(plan);
-    writeFileBytes(command.out, bytes);
+    writeFileAtomic(command.out, bytes);
     if (!quiet)
         std::fprintf(stderr, "wrote %s: %s, %u shards, plan %016llx, %zu bytes\n",
                      command.out.c_str(), plan.algorithm.c_str(), plan.shards,
@@ -123,7 +108,7 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
     CommandRun run(command.threads, quiet);
     ShardResult result = renderPlannedShard(run.environment(scene), plan, *shard);
     run.finish();
-    writeFileBytes(command.out, serializeShardResult(result));
+    writeFileAtomic(command.out, serializeShardResult(result));
     if (!quiet)
         std::fprintf(stderr, "wrote %s: shard %u of %u\n", command.out.c_str(), *shard,
                      plan.shards);

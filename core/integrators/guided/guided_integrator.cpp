@@ -14,8 +14,6 @@
 
 namespace partita {
 
-namespace {}  // namespace
-
 /// What the guided perturbations of every chain read: built once after the pre-pass, alive as
 /// long as the chains' mutation factory.
 struct Guides {

@@ -12,6 +12,7 @@
 #include "path/path.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
+#include "share_range.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -69,7 +70,7 @@ ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sample
         if (start.empty()) continue;
         PlannedChain chain;
         chain.stream = kChainStreams + k;
-        chain.mutations = chainShare(mutations, starts.size(), k);
+        chain.mutations = shareRange(mutations, starts.size(), k).count();
         chain.start = std::move(start);
         plan.chains.push_back(std::move(chain));
     }

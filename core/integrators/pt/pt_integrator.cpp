@@ -58,6 +58,7 @@ class PathTracerPasses : public SamplePassRenderer {
         copy.merge(film_);
         return copy;
     }
+    Film takeFilm() override { return std::move(film_); }
 
     void addStats(RenderStats& st, double seconds) const override {
         st.values["rays"] = double(rays_.load());
