@@ -23,7 +23,7 @@
 # it). SEEDS seeds each; the renders keep LAYERS type layers (default 64, so that mlt's and
 # pt's films keep the K types apart from "other"). Every run's table goes to
 # OUT/<scene>-<run>.txt (and stdout), its figures to OUT/<scene>-<run>.json;
-# bench/guided-study-table.py turns those into bench/README's tables. A scene that fails does
+# bench/guided-study-table.py turns those into docs/guided-study.md's tables. A scene that fails does
 # not stop the others (the script exits 1 naming them at the end). Renders run under
 # `nice -n 10` (NICE= to change); never run two studies at once. EQUAL_TIME=0 skips step 2;
 # REUSE=1 keeps an existing step-1 JSON (and pt calibration) instead of rendering them again.

@@ -5,7 +5,7 @@
 A partition's image is b_i times its chains' histogram, so an error of the pre-pass's b_i
 scales the whole layer, and the same error at every grid point (the pre-pass does not depend on
 |Y'|, R or epsilon): at 32 mpp it dominates the combined RMSE and hides what the chains' moves
-change (bench/README.md, issue #12). Here each partition layer of a render (sweep.py keeps them
+change (docs/partitioned-study.md, issue #12). Here each partition layer of a render (sweep.py keeps them
 in DIR/renders/*.exr, one per partition: its type, or `complement`) is rescaled so that its mean
 luminance is the reference's for the same paths (the layer of that type in REF, which must have
 every type layer, as `partita-eval reference --layers 1024` makes; for the complement the

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""bench/README's tables of a sweep.py run with --seeds N > 1 (its DIR/runs.csv):
+"""docs/guided-sweep.md's tables of a sweep.py run with --seeds N > 1 (its DIR/runs.csv):
     bench/guided-sweep-table.py DIR [DIR...] [--base P1=V1,P2=V2] [--value rmse|relmse|seconds]
                                 [--runs runs.csv|runs-shape.csv] [--long]
 

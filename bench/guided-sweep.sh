@@ -1,9 +1,9 @@
 #!/bin/sh
 # guided: the |Y'| x R study (issue #13 item 6, the paper's Figure 8) and the epsilon sweep that
-# chose RenderSettings' guideRadius and guideEpsilon (bench/README.md, "guided: the |Y'| x R
-# study"). Everything renders through a private partitad started by client/python/sweep.py
-# (one job at a time); the references are BDPT renders by `partita-eval reference` from the
-# shared cache (build-bench/references/, as partitioned-study.sh makes them).
+# chose RenderSettings' guideRadius and guideEpsilon (docs/guided-sweep.md). Everything renders
+# through a private partitad started by client/python/sweep.py (one job at a time); the
+# references are BDPT renders by `partita-eval reference` from the shared cache
+# (build-bench/references/, as partitioned-study.sh makes them).
 #   1. per scene at 128x96, 32 mpp: the grid rows R = 2,5,10,20,40, columns |Y'| = 8,32,128,512,
 #      SEEDS seeds (default 4; seeds 1..SEEDS);
 #   2. the column |Y'| = 128 again for R = 5,10,20,40 with MORE_SEEDS more seeds (default 8;
@@ -13,7 +13,7 @@
 #   4. per scene at 256x192 (a 512-spp BDPT reference with 64 type layers), R = 5,10,20,40 (and
 #      80 on bathroom) at |Y'| = 128, 4 seeds: whether the good R scales with the image size;
 # then bench/guided-sweep-shape-error.py on every run (the error with the pre-pass's b_i taken
-# out) and bench/guided-sweep-table.py prints bench/README's tables.
+# out) and bench/guided-sweep-table.py prints docs/guided-sweep.md's tables.
 # Needs build/ (partitad, the Python stubs) and build-bench/bench/partita-eval (PARTITA_EVAL=).
 # Renders run under `nice -n 10` (NICE= to change). OUT defaults to build-bench/guided-sweep.
 #   bench/guided-sweep.sh       (SCENES="cornell-glass bathroom", SEEDS=4, MORE_SEEDS=8)

@@ -3,7 +3,7 @@
 # ALGORITHMS=mlt,partitioned, its outputs in build-bench/partitioned-study (OUT= to change):
 # a BDPT reference per scene with every type layer, then `quality` at MPP mutations per pixel
 # with the same start-up budget for both, and at equal time with pt (pt's spp calibrated to
-# mlt's time). bench/partitioned-study-table.py turns the JSON into bench/README's tables. Every
+# mlt's time). bench/partitioned-study-table.py turns the JSON into docs/partitioned-study.md's tables. Every
 # variable of guided-study.sh applies (SIZE, REF_SPP, MPP, BOOTSTRAP, SEEDS, SCENES, ...).
 #   bench/partitioned-study.sh   (SIZE=128x96, REF_SPP=1024, MPP=32, BOOTSTRAP=100000, SEEDS=4)
 set -eu

@@ -1,6 +1,6 @@
 """What the study table scripts (partitioned-study-table.py, guided-study-table.py) share: the
 shipped scenes, reading `partita-eval quality` JSON files and picking their figures, and the
-number formats of bench/README's tables."""
+number formats of the studies' tables in docs/."""
 import json
 
 SCENES = ["cornell", "cornell-glass", "cornell-point", "door-ajar", "bathroom", "pool"]
