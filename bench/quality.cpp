@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "algorithm.h"
 #include "eval/peak_rss.h"
 #include "eval/reference_key.h"
 #include "eval_render.h"
@@ -48,13 +49,29 @@ Reference loadReference(const std::string& path) {
 }
 
 /// Every algorithm resolved (an unknown name is the registry's one-line error) before anything
-/// renders.
+/// renders. Each takes the given parameters it declares (--k for partitioned and guided, not
+/// for mlt); a parameter no algorithm of the list declares is an error.
 std::vector<RenderOptions> resolveAlgorithms(const QualityOptions& o) {
     if (o.algorithms.empty()) throw std::invalid_argument("--algorithms names none");
+    registerBuiltinAlgorithms();
+    for (const auto& [name, value] : o.render.given) {
+        bool declared = findParameter(sharedParameters().specs(), name);
+        for (const auto& a : o.algorithms)
+            if (const auto* entry = AlgorithmRegistry::instance().find(a))
+                declared = declared || findParameter(entry->parameters, name);
+        if (!declared)
+            throw std::invalid_argument("parameter '" + name + "' is not one of " +
+                                        "the algorithms' parameters");
+    }
     std::vector<RenderOptions> out;
     for (const auto& name : o.algorithms) {
         RenderOptions r = o.render;
         r.algorithm = name;
+        if (const auto* entry = AlgorithmRegistry::instance().find(name))
+            for (const auto& [param, value] : o.render.given)
+                if (!findParameter(sharedParameters().specs(), param) &&
+                    !findParameter(entry->parameters, param))
+                    r.given.erase(param);
         if (std::string err = finalizeRenderOptions(r); !err.empty())
             throw std::invalid_argument(err);
         out.push_back(r);

@@ -89,17 +89,26 @@ class Algorithm {
     virtual Shardable* shardable() { return nullptr; }
 };
 
-/// The registry of algorithms by name.
+/// The registry of algorithms by name. Each entry declares its own parameters (beyond the
+/// shared ones of render_settings.h) and makes the algorithm from a job's values of them.
 class AlgorithmRegistry {
   public:
-    using Factory = std::function<std::unique_ptr<Algorithm>()>;
+    /// The algorithm with its settings resolved from the job's values of its parameters (unset
+    /// ones take the declared defaults). Throws std::invalid_argument naming a bad value.
+    using Factory = std::function<std::unique_ptr<Algorithm>(const ParameterValues&)>;
     struct Entry {
         std::string name, description;
-        BudgetKind nativeBudget;  // samples for pt/bdpt, mutations for the MCMC methods
+        /// Its budget unit: samples for pt/bdpt, mutations for the MCMC methods; every
+        /// algorithm also takes a time budget (budgets()).
+        BudgetKind nativeBudget;
         Factory factory;
         /// Whether it renders through an orthographic camera (the MCMC methods connect paths to
         /// a pinhole and need a perspective one).
         bool orthographicCamera = true;
+        /// Its own parameters, declared next to its settings struct (params/settings_table.h).
+        std::vector<ParameterSpec> parameters;
+
+        std::vector<BudgetKind> budgets() const { return {nativeBudget, BudgetKind::Seconds}; }
     };
 
     static AlgorithmRegistry& instance();
@@ -110,6 +119,23 @@ class AlgorithmRegistry {
   private:
     std::map<std::string, Entry> entries_;
 };
+
+/// The entry of algorithm A, whose constructor takes the settings S that `table` declares.
+template <class A, class S>
+AlgorithmRegistry::Entry algorithmEntry(std::string name, std::string description,
+                                        BudgetKind nativeBudget, const SettingsTable<S>& table,
+                                        bool orthographicCamera = true) {
+    AlgorithmRegistry::Entry e;
+    e.name = std::move(name);
+    e.description = std::move(description);
+    e.nativeBudget = nativeBudget;
+    e.orthographicCamera = orthographicCamera;
+    e.parameters = table.specs();
+    e.factory = [&table](const ParameterValues& values) -> std::unique_ptr<Algorithm> {
+        return std::make_unique<A>(table.resolve(values));
+    };
+    return e;
+}
 
 /// Registers every built-in algorithm; idempotent. Called by front ends at start-up (static
 /// registration from a static library would be dropped by the linker).

@@ -2,16 +2,79 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace partita {
 
-std::string validateSettings(const RenderSettings& s, const RenderLimits& limits) {
+namespace {
+
+std::string environmentExtension(const ParameterValue& v) {
+    const std::string& file = std::get<std::string>(v);
+    if (file.empty()) return "";
+    std::string ext = std::filesystem::path(file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == ".exr" || ext == ".hdr" ? "" : "environment must be an .exr or .hdr image";
+}
+
+SettingsTable<RenderSettings> makeSharedParameters() {
+    using S = RenderSettings;
+    SettingsTable<S> t;
+    t.add(ParameterSpec("width", "image width").withUnit("pixels").atLeast(1), &S::width);
+    t.add(ParameterSpec("height", "image height").withUnit("pixels").atLeast(1), &S::height);
+    t.add(
+        ParameterSpec("camera", "camera name (empty: the scene's first camera)").withMaxLength(256),
+        &S::cameraName);
+    t.add(ParameterSpec("seed", "random seed"), &S::seed);
+    t.add(ParameterSpec("max_depth", "maximum scattering vertices per path")
+              .withUnit("vertices")
+              .atLeast(1),
+          &S::maxDepth);
+    t.add(ParameterSpec("layers",
+                        "path-type layers kept in the EXR before the rest merge into 'other'")
+              .within(0, 1024),
+          &S::maxTypeLayers);
+    t.add(ParameterSpec("preview_interval", "seconds between preview frames (0: none)")
+              .withUnit("seconds")
+              .atLeast(0),
+          &S::previewIntervalSeconds);
+    t.add(
+        ParameterSpec("environment",
+                      "equirectangular EXR/HDR lighting the scene from afar (+Y up, centre at -Z)")
+            .withCheck(environmentExtension)
+            .ofType(ParameterType::Text),
+        [](const S& s) -> ParameterValue { return s.environment.file; },
+        [](S& s, const ParameterValue& v) { s.environment.file = std::get<std::string>(v); });
+    t.add(
+        ParameterSpec("environment_color", "uniform environment radiance R,G,B")
+            .within(0, 1e6)
+            .ofType(ParameterType::Rgb, /*single=*/true),
+        [](const S& s) -> ParameterValue {
+            if (!s.environment.hasColor) return std::monostate{};
+            const auto& c = s.environment.color;
+            return RgbValue{c[0], c[1], c[2]};
+        },
+        [](S& s, const ParameterValue& v) {
+            s.environment.hasColor = std::holds_alternative<RgbValue>(v);
+            if (!s.environment.hasColor) return;
+            const RgbValue& c = std::get<RgbValue>(v);
+            s.environment.color = {float(c[0]), float(c[1]), float(c[2])};
+        });
+    t.add(
+        ParameterSpec("environment_rotation", "turn the environment about +Y")
+            .withUnit("degrees")
+            .within(-360000, 360000)
+            .ofType(ParameterType::Real, /*single=*/true),
+        [](const S& s) -> ParameterValue { return double(s.environment.rotationDegrees); },
+        [](S& s, const ParameterValue& v) {
+            s.environment.rotationDegrees = float(std::get<double>(v));
+        });
+    return t;
+}
+
+std::string checkBudget(const RenderSettings& s, const RenderLimits& limits) {
     std::ostringstream err;
-    if (s.width < 1 || s.height < 1 || s.width > limits.maxWidth || s.height > limits.maxHeight)
-        err << "resolution " << s.width << "x" << s.height << " is outside 1x1.." << limits.maxWidth
-            << "x" << limits.maxHeight;
-    else if (!std::isfinite(s.budget) || s.budget <= 0)
+    if (!std::isfinite(s.budget) || s.budget <= 0)
         err << "budget must be a positive number, got " << s.budget;
     else if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
         err << "time budget " << s.budget << " s exceeds the limit of " << limits.maxSeconds
@@ -21,35 +84,42 @@ std::string validateSettings(const RenderSettings& s, const RenderLimits& limits
             << limits.maxSamplesPerPixel;
     else if (s.budgetKind != BudgetKind::Seconds && s.budget != std::floor(s.budget))
         err << "samples/mutations per pixel must be a whole number, got " << s.budget;
-    else if (s.maxDepth < 1 || s.maxDepth > limits.maxDepth)
-        err << "max depth " << s.maxDepth << " is outside 1.." << limits.maxDepth;
-    else if (s.partitions < 0 || s.partitions > 64)
-        err << "K (partitions) " << s.partitions << " is outside 0..64";
-    else if (s.prepass != "auto" && s.prepass != "pt" && s.prepass != "bdpt")
-        err << "pre-pass '" << s.prepass << "' is not one of auto, pt, bdpt";
-    else if (s.guideCandidates < 1 || s.guideCandidates > 4096)
-        err << "|Y'| " << s.guideCandidates << " is outside 1..4096";
-    else if (!std::isfinite(s.guideRadius) || s.guideRadius <= 0 || s.guideRadius > 4096)
-        err << "radius R " << s.guideRadius << " is outside (0, 4096]";
-    else if (!std::isfinite(s.guideEpsilon) || s.guideEpsilon <= 0 || s.guideEpsilon > 1)
-        err << "epsilon " << s.guideEpsilon << " is outside (0, 1]";
-    else if (s.bootstrapSamples > limits.maxBootstrapSamples)
-        err << "bootstrap samples " << s.bootstrapSamples << " exceed the limit of "
-            << limits.maxBootstrapSamples;
-    else if (s.maxTypeLayers < 0 || s.maxTypeLayers > 1024)
-        err << "max type layers " << s.maxTypeLayers << " is outside 0..1024";
-    else if (!std::isfinite(s.previewIntervalSeconds) || s.previewIntervalSeconds < 0)
-        err << "preview interval must be >= 0 seconds";
-    else if (!s.environment.file.empty() && s.environment.hasColor)
-        err << "give an environment file or an environment colour, not both";
-    else if (!std::isfinite(s.environment.rotationDegrees) ||
-             std::abs(s.environment.rotationDegrees) > 360000)
-        err << "environment rotation must be a finite number of degrees";
-    else if (s.environment.hasColor &&
-             std::any_of(s.environment.color.begin(), s.environment.color.end(),
-                         [](float c) { return !std::isfinite(c) || c < 0 || c > 1e6f; }))
-        err << "environment colour components must be in [0, 1e6]";
     return err.str();
+}
+
+}  // namespace
+
+const char* budgetKindName(BudgetKind kind) {
+    switch (kind) {
+        case BudgetKind::SamplesPerPixel:
+            return "spp";
+        case BudgetKind::MutationsPerPixel:
+            return "mpp";
+        case BudgetKind::Seconds:
+            return "seconds";
+    }
+    return "?";
+}
+
+const SettingsTable<RenderSettings>& sharedParameters() {
+    static const SettingsTable<RenderSettings> table = makeSharedParameters();
+    return table;
+}
+
+std::string validateSettings(const RenderSettings& s, const RenderLimits& limits) {
+    for (const auto& e : sharedParameters().entries())
+        if (std::string why = checkParameter(e.spec, e.get(s)); !why.empty()) return why;
+    if (s.width > limits.maxWidth || s.height > limits.maxHeight)
+        return "resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+               " exceeds the limit of " + std::to_string(limits.maxWidth) + "x" +
+               std::to_string(limits.maxHeight);
+    if (s.maxDepth > limits.maxDepth)
+        return "max_depth = " + std::to_string(s.maxDepth) + " exceeds the limit of " +
+               std::to_string(limits.maxDepth);
+    if (std::string why = checkBudget(s, limits); !why.empty()) return why;
+    if (!s.environment.file.empty() && s.environment.hasColor)
+        return "give an environment file or an environment colour, not both";
+    return "";
 }
 
 }  // namespace partita

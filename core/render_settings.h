@@ -6,9 +6,15 @@
 #include <cstdint>
 #include <string>
 
+#include "params/parameter_values.h"
+#include "params/settings_table.h"
+
 namespace partita {
 
 enum class BudgetKind { SamplesPerPixel, MutationsPerPixel, Seconds };
+
+/// "spp", "mpp", "seconds": the budget's unit as the CLI's flags, metadata and keys name it.
+const char* budgetKindName(BudgetKind kind);
 
 /// The environment a job lights its scene with (glTF has none): an equirectangular EXR/HDR
 /// file, or one colour, turned about +Y (environment_map.h). Neither: no environment.
@@ -20,6 +26,8 @@ struct EnvironmentSettings {
     bool enabled() const { return !file.empty() || hasColor; }
 };
 
+/// What every algorithm reads (the shared parameters, declared once in sharedParameters()),
+/// the budget, and the algorithm's own parameters by name.
 struct RenderSettings {
     int width = 320, height = 240;
     std::string cameraName;  // empty = the scene's first camera (or a default framing camera)
@@ -30,36 +38,21 @@ struct RenderSettings {
     uint64_t seed = 1;
     int maxDepth = 16;  // maximum number of scattering vertices on a path
 
-    // Method parameters (paper Section 4-5); ignored by algorithms that do not use them.
-    int partitions = 10;         // K
-    // |Y'|, R and epsilon: chosen with the |Y'| x R study and the epsilon sweep of bench/README.md,
-    // "guided: the |Y'| x R study (issue #13 item 6)" (cornell-glass and bathroom, 32 mpp, RMSE
-    // ratios paired by seed). |Y'| = 128, the paper's: 32 and 512 tie with it within about two
-    // standard errors, 8 loses 1..47% and shows structured noise. R = 20: at 128x96 (12 seeds)
-    // R = 5..40 tie within 1.5% and R = 2 loses 5..12%; at 256x192 (4 seeds) R = 5 loses 2..4%,
-    // R = 20 ties with 10 on cornell-glass and beats it on bathroom (0.92x): the good range moves
-    // up with the image, so much wider images may want a larger R. epsilon (relative to D_i's
-    // mean, image_guide.h): 0.001..0.1 tie within 0.5% on cornell-glass (3% on bathroom, within
-    // its noise); 0.01 is the middle of that flat range.
-    int guideCandidates = 128;   // |Y'|
-    float guideRadius = 20;      // R, pixels
-    float guideEpsilon = 0.01f;  // epsilon of Eq. 17
-    /// Samples of the MCMC methods' start-up (mlt's BDPT bootstrap, partitioned's pre-pass);
-    /// 0: the algorithm's default.
-    uint64_t bootstrapSamples = 0;
-    /// The pre-pass estimator of the partitioned methods: "pt" (the paper's), "bdpt" or "auto"
-    /// (bdpt when the scene has a delta light, else pt). Default bdpt, the estimator of mlt's
-    /// start-up: at the same 100000 samples its b_i are less noisy than the path tracer's (the
-    /// sum of b_i spreads 3-4% over seeds with pt), and partitioned's RMSE at 32 mpp went from
-    /// 0.99-1.33x mlt's to 0.84-0.98x on every shipped scene (bench/README.md, "partitioned
-    /// against mlt and pt").
-    std::string prepass = "bdpt";
-
     EnvironmentSettings environment;
 
     int maxTypeLayers = 32;  // film layers kept before the rest merge into "other"
     double previewIntervalSeconds = 1.0;
+
+    /// The algorithm's own parameters (those its registry entry declares: k, y, radius, ...) as
+    /// the job gives them; the algorithm's settings resolve from them, with its defaults for the
+    /// rest (params/job_parameters.h).
+    ParameterValues parameters;
 };
+
+/// The shared parameters, bound to RenderSettings' fields: width, height, camera, seed,
+/// max_depth, layers, environment, environment_color, environment_rotation, preview_interval.
+/// The budget is not among them: it travels as a kind and an amount.
+const SettingsTable<RenderSettings>& sharedParameters();
 
 /// Limits a front end checks before rendering; a violation is a clear error, never a crash.
 struct RenderLimits {
@@ -70,7 +63,10 @@ struct RenderLimits {
     uint64_t maxBootstrapSamples = uint64_t(1) << 30;
 };
 
-/// Returns an empty string when the settings are valid, else one line saying what is wrong.
+/// Checks the shared parameters against their declarations, the budget, the limits and the
+/// rules that join two settings (not both an environment file and a colour): "" when valid,
+/// else one line saying what is wrong. The algorithm's own parameters are checked by
+/// validateJob (params/job_parameters.h).
 std::string validateSettings(const RenderSettings& settings, const RenderLimits& limits = {});
 
 }  // namespace partita

@@ -8,6 +8,7 @@
 
 #include "camera.h"
 #include "gltf/camera_select.h"
+#include "params/job_parameters.h"
 #include "render_scene.h"
 #include "scene_environment.h"
 #include "thread_pool.h"
@@ -29,12 +30,10 @@ CameraDesc resolveCamera(const SceneData& scene, const std::string& name) {
 
 PreparedRender prepareRender(const RenderScene& scene, const std::string& algorithm,
                              const RenderSettings& settings) {
-    registerBuiltinAlgorithms();
-    const auto* entry = AlgorithmRegistry::instance().find(algorithm);
-    if (!entry) throw std::invalid_argument("unknown algorithm '" + algorithm + "'");
-    if (std::string err = validateSettings(settings); !err.empty())
+    const AlgorithmRegistry::Entry& entry = registeredAlgorithm(algorithm);
+    if (std::string err = validateJob(entry, settings); !err.empty())
         throw std::invalid_argument(err);
-    return {entry->factory(), Camera(resolveCamera(scene.data(), settings.cameraName),
+    return {entry.factory(settings.parameters), Camera(resolveCamera(scene.data(), settings.cameraName),
                                      settings.width, settings.height)};
 }
 
@@ -62,27 +61,17 @@ std::map<std::string, std::string> describeRender(const std::string& algorithm,
     };
     std::map<std::string, std::string> m;
     m["partita:algorithm"] = algorithm;
-    m["partita:width"] = str(s.width);
-    m["partita:height"] = str(s.height);
-    m["partita:camera"] = s.cameraName;
-    m["partita:budget_kind"] = s.budgetKind == BudgetKind::SamplesPerPixel     ? "spp"
-                               : s.budgetKind == BudgetKind::MutationsPerPixel ? "mpp"
-                                                                               : "seconds";
+    m["partita:budget_kind"] = budgetKindName(s.budgetKind);
     m["partita:budget"] = str(s.budget);
-    m["partita:seed"] = str(s.seed);
-    m["partita:max_depth"] = str(s.maxDepth);
-    m["partita:k"] = str(s.partitions);
-    m["partita:y"] = str(s.guideCandidates);
-    m["partita:radius"] = str(s.guideRadius);
-    m["partita:epsilon"] = str(s.guideEpsilon);
-    if (s.bootstrapSamples > 0) m["partita:bootstrap"] = str(s.bootstrapSamples);
-    m["partita:prepass"] = s.prepass;
-    const EnvironmentSettings& env = s.environment;
-    if (env.enabled()) {
-        m["partita:environment"] =
-            env.hasColor ? str(env.color[0]) + "," + str(env.color[1]) + "," + str(env.color[2])
-                         : std::filesystem::path(env.file).filename().string();
-        m["partita:environment_rotation"] = str(env.rotationDegrees);
+    // Every declared parameter as it ran; an environment file by its name only (the path is
+    // the server's or the user's own business).
+    for (const JobParameter& p : jobParameters(registeredAlgorithm(algorithm), s)) {
+        if (std::holds_alternative<std::monostate>(p.value)) continue;
+        std::string text = formatParameter(*p.spec, p.value);
+        if (p.spec->name == "environment")
+            text = std::filesystem::path(text).filename().string();
+        if (p.spec->name == "environment" && text.empty()) continue;
+        m["partita:" + p.spec->name] = text;
     }
     for (const auto& [k, v] : stats.values) m["partita:stat:" + k] = str(v);
     for (const auto& [k, v] : stats.labels) m["partita:stat:" + k] = v;

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "job_runner.h"
+#include "parameter_wire.h"
 #include "store_usage.h"
 #include "text.h"
 
@@ -218,6 +219,9 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
     pb::Job record;
     record.set_id(id);
     *record.mutable_spec() = withoutSceneBytes(spec);
+    // What the job runs with, defaults filled in: a run after a restart uses the same values.
+    storeResolvedParameters(*AlgorithmRegistry::instance().find(validated.algorithm),
+                            validated.settings, *record.mutable_spec());
     record.set_state(pb::JOB_STATE_QUEUED);
     record.set_created_unix_ms(nowUnixMs());
     std::shared_ptr<Job> job;

@@ -32,8 +32,13 @@ bool hasPartitions(const std::string& algorithm) {
 /// Films an algorithm holds at once: bdpt keeps a camera film and a light-tracing film and sums
 /// them into a third to resolve; mlt splats every chain into one film, round by round, in chain
 /// order; partitioned and guided have one film per partition group (K and the complement).
+/// K of a partitioned method's job (its parameter "k", or the default).
+int partitionsOf(const RenderSettings& s) {
+    return partitionedParameters().resolve(s.parameters).k;
+}
+
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
-    if (hasPartitions(algorithm)) return std::max(0, s.partitions) + 1;
+    if (hasPartitions(algorithm)) return std::max(0, partitionsOf(s)) + 1;
     return algorithm == "bdpt" ? 3 : 1;
 }
 
@@ -76,8 +81,7 @@ double bdptExtraBytes(const RenderSettings& s, double pixels) {
 ///   mpp and 225 at 16 (512x384), 190 at 64 and 770 at 256 (128x96): counted as 150 B
 ///   sqrt(mpp), bounded by what ~1000 types of 12 B a pixel can take (time budgets at that
 ///   bound).
-/// A job's own bootstrap samples (RenderSettings::bootstrapSamples), when set, count instead of
-/// the default.
+/// The job's own settings (its bootstrap samples, chains) count, with the defaults for the rest.
 struct MltExtra {
     double bootstrap, chains, types;
 };
@@ -99,9 +103,9 @@ double anyTypeBlocks(const RenderSettings& s, double pixels) {
 }
 
 MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
-    const MltSettings defaults;
+    const MltSettings defaults = mltParameters().resolve(s.parameters);
     constexpr double kCandidatesPerSample = 14, kCandidateBytes = sizeof(BootstrapCandidate);
-    uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.bootstrapSamples;
+    uint64_t samples = defaults.bootstrapSamples;
     MltExtra e;
     e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
@@ -117,9 +121,9 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
 /// - the complement's film gathers every other type as mlt's film does; a partition's film
 ///   holds one type mostly, which the film allowance covers.
 MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
-    const PartitionedSettings defaults;
+    const PartitionedSettings defaults = partitionedParameters().resolve(s.parameters);
     constexpr double kRecordsPerSample = 13, kRecordBytes = sizeof(BootstrapCandidate);
-    uint64_t samples = s.bootstrapSamples > 0 ? s.bootstrapSamples : defaults.prepassSamples;
+    uint64_t samples = defaults.bootstrapSamples;
     MltExtra e;
     e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,
                            double(defaults.prepassMemoryBytes));
@@ -150,7 +154,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
     int films = filmCount(algorithm, s);
-    int partitions = hasPartitions(algorithm) ? std::max(0, s.partitions) + 1 : 0;
+    int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
     // The result's images: the combined one and "other" besides the type layers; for the
     // partitioned methods one a partition (K + 1) and the combined one, while each partition's
     // film is resolved with its type layers one partition at a time.

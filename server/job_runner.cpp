@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "image_io.h"
+#include "params/job_parameters.h"
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_environment.h"
@@ -125,13 +126,25 @@ void attachJobEnvironment(const Job& job, const RunContext& ctx, const Environme
     fs::remove(local, ec);
 }
 
-/// A float as the shortest decimal that reads back as it (0.01f is 0.01, not 0.009999999776).
-double shortest(float v) { return std::stod(fmt::format("{}", v)); }
-
-std::string budgetKindName(BudgetKind k) {
-    return k == BudgetKind::SamplesPerPixel     ? "spp"
-           : k == BudgetKind::MutationsPerPixel ? "mpp"
-                                                : "seconds";
+/// A parameter's value as JSON: numbers as numbers (a float field's as the shortest decimal
+/// that reads back as it: 0.01, not 0.009999999776), text as text, an RGB as three numbers.
+nlohmann::ordered_json parameterJson(const ParameterSpec& spec, const ParameterValue& value) {
+    auto real = [&](double v) {
+        return spec.singlePrecision ? std::stod(fmt::format("{}", float(v))) : v;
+    };
+    return std::visit(
+        [&](const auto& v) -> nlohmann::ordered_json {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::monostate>)
+                return nullptr;
+            else if constexpr (std::is_same_v<T, double>)
+                return real(v);
+            else if constexpr (std::is_same_v<T, RgbValue>)
+                return {real(v[0]), real(v[1]), real(v[2])};
+            else
+                return v;
+        },
+        value);
 }
 
 std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderResult& result) {
@@ -142,29 +155,16 @@ std::string metadataJson(const Job& job, const ValidatedSpec& v, const RenderRes
     j["label"] = job.spec().label();
     j["scene"] = sceneLabel(job.spec());
     j["algorithm"] = v.algorithm;
-    j["parameters"] = {{"width", s.width},
-                       {"height", s.height},
-                       {"camera", s.cameraName},
-                       {"budget_kind", budgetKindName(s.budgetKind)},
-                       {"budget", s.budget},
-                       {"seed", s.seed},
-                       {"max_depth", s.maxDepth},
-                       {"k", s.partitions},
-                       {"prepass", s.prepass},
-                       {"bootstrap_samples", s.bootstrapSamples},
-                       {"y", s.guideCandidates},
-                       {"radius", shortest(s.guideRadius)},
-                       {"epsilon", shortest(s.guideEpsilon)},
-                       {"max_type_layers", s.maxTypeLayers},
-                       {"preview_interval_seconds", s.previewIntervalSeconds},
-                       {"priority", job.spec().priority()}};
-    if (s.environment.hasColor)
-        j["parameters"]["environment_color"] = {shortest(s.environment.color[0]),
-                                                shortest(s.environment.color[1]),
-                                                shortest(s.environment.color[2])};
-    if (!s.environment.file.empty()) j["parameters"]["environment_file"] = s.environment.file;
-    if (s.environment.enabled())
-        j["parameters"]["environment_rotation_degrees"] = shortest(s.environment.rotationDegrees);
+    // Every declared parameter as the job ran it (defaults filled in; an unset one is absent),
+    // then the budget and the priority.
+    nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+    for (const JobParameter& p : jobParameters(registeredAlgorithm(v.algorithm), s))
+        if (!std::holds_alternative<std::monostate>(p.value))
+            parameters[p.spec->name] = parameterJson(*p.spec, p.value);
+    parameters["budget_kind"] = budgetKindName(s.budgetKind);
+    parameters["budget"] = s.budget;
+    parameters["priority"] = job.spec().priority();
+    j["parameters"] = parameters;
     nlohmann::ordered_json stats = nlohmann::ordered_json::object();
     for (const auto& [k, value] : result.stats.values) stats[k] = value;
     j["stats"] = stats;

@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "algorithm.h"
-#include "algorithm_parameters.h"
+#include "parameter_wire.h"
 #include "job_runner.h"
 #include "result_stream.h"
 #include "text.h"
@@ -240,6 +240,7 @@ grpc::Status PartitaService::serverInfo(pb::ServerInfo& response) {
     l->set_max_depth(limits_.maxDepth);
     l->set_max_job_memory_bytes(limits_.maxJobMemoryBytes);
     l->set_max_store_bytes(limits_.maxStoreBytes);
+    l->set_max_bootstrap_samples(limits_.maxBootstrapSamples);
     const auto& registry = AlgorithmRegistry::instance();
     for (const auto& name : registry.names()) {
         const auto* entry = registry.find(name);
@@ -247,7 +248,7 @@ grpc::Status PartitaService::serverInfo(pb::ServerInfo& response) {
         info->set_name(entry->name);
         info->set_description(entry->description);
         info->set_native_budget(toProto(entry->nativeBudget));
-        for (const auto& p : algorithmParameters(entry->name)) info->add_parameters(p);
+        describeAlgorithmParameters(*entry, *info);
     }
     return grpc::Status::OK;
 }

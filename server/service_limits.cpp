@@ -9,6 +9,7 @@ RenderLimits ServiceLimits::renderLimits() const {
     r.maxSamplesPerPixel = maxSamplesPerPixel;
     r.maxSeconds = maxSeconds;
     r.maxDepth = maxDepth;
+    r.maxBootstrapSamples = maxBootstrapSamples;
     return r;
 }
 

@@ -18,6 +18,7 @@ struct ServiceLimits {
     int maxWatchersPerJob = 64;
     int maxWatchStreams = 1024;  // open WatchJob streams of all jobs together
     int maxDepth = 1024;
+    uint64_t maxBootstrapSamples = uint64_t(1) << 30;  // the MCMC start-up's samples ("bootstrap")
     int64_t maxJobMemoryBytes = 0;  // largest memory estimate of one job (job_memory.h); 0: none
     int64_t maxTotalJobMemoryBytes = 0;  // what running jobs may use together; 0: no limit
     int64_t maxStoreBytes = 0;           // store size beyond which uploads are refused; 0: none

@@ -11,6 +11,8 @@
 
 #include "algorithm.h"
 #include "gltf/resource_resolver.h"
+#include "parameter_wire.h"
+#include "params/job_parameters.h"
 #include "scene_source.h"
 #include "text.h"
 
@@ -89,6 +91,79 @@ grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limit
     return settingsFromSpec(spec, limits, out);
 }
 
+namespace {
+
+/// The budget of `spec`: the algorithm's native unit with 16 per pixel when unset.
+grpc::Status budgetFromSpec(const pb::JobSpec& spec, const AlgorithmRegistry::Entry& entry,
+                            const ServiceLimits& limits, RenderSettings& s) {
+    bool budgetSet = spec.has_budget() && !(spec.budget().kind() == pb::BUDGET_KIND_UNSPECIFIED &&
+                                            spec.budget().amount() == 0);
+    if (!budgetSet) {
+        s.budgetKind = entry.nativeBudget;
+        s.budget = 16;
+        return grpc::Status::OK;
+    }
+    int kind = spec.budget().kind();
+    if (!pb::BudgetKind_IsValid(kind))
+        return invalid("unknown budget kind " + std::to_string(kind));
+    switch (kind) {
+        case pb::BUDGET_KIND_SAMPLES_PER_PIXEL:
+            s.budgetKind = BudgetKind::SamplesPerPixel;
+            break;
+        case pb::BUDGET_KIND_MUTATIONS_PER_PIXEL:
+            s.budgetKind = BudgetKind::MutationsPerPixel;
+            break;
+        case pb::BUDGET_KIND_SECONDS:
+            s.budgetKind = BudgetKind::Seconds;
+            break;
+        default:
+            return invalid(
+                "budget kind is unspecified: set samples per pixel, mutations per pixel or "
+                "seconds");
+    }
+    s.budget = spec.budget().amount();
+    if (s.budgetKind != BudgetKind::Seconds && s.budgetKind != entry.nativeBudget)
+        return invalid("algorithm '" + entry.name + "' takes its budget in " +
+                       budgetUnit(entry.nativeBudget) + " or seconds, not " +
+                       budgetUnit(s.budgetKind));
+    if (!std::isfinite(s.budget) || s.budget <= 0)
+        return invalid("the budget must be a positive number, got " + num(s.budget));
+    if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
+        return exhausted("time budget " + num(s.budget) + " s exceeds this server's limit of " +
+                         num(limits.maxSeconds) + " s");
+    if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
+        return exhausted("budget " + num(s.budget) + " " + budgetUnit(s.budgetKind) +
+                         " exceeds this server's limit of " + num(limits.maxSamplesPerPixel));
+    return grpc::Status::OK;
+}
+
+/// What this server refuses as too much (RESOURCE_EXHAUSTED) or as its own rule, once the
+/// parameters are known to be well formed.
+grpc::Status checkServerLimits(const pb::JobSpec& spec, const RenderSettings& s,
+                               const ServiceLimits& limits) {
+    if (s.width > limits.maxWidth || s.height > limits.maxHeight)
+        return exhausted("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                         " exceeds this server's limit of " + std::to_string(limits.maxWidth) +
+                         "x" + std::to_string(limits.maxHeight));
+    if (const auto* b = s.parameters.find("bootstrap"))
+        if (const auto* samples = std::get_if<uint64_t>(b);
+            samples && *samples > limits.maxBootstrapSamples)
+            return exhausted("bootstrap = " + std::to_string(*samples) +
+                             " samples exceeds this server's limit of " +
+                             std::to_string(limits.maxBootstrapSamples));
+    double p = s.previewIntervalSeconds;
+    if (p > 0 && p < 0.05)
+        return invalid("preview_interval must be 0 (no previews) or at least 0.05 s, got " +
+                       num(p));
+    if (!s.environment.file.empty() && spec.scene().has_glb())
+        return invalid(
+            "an environment image goes with a .gltf upload (as one of its "
+            "resources) or a named scene, not with a .glb");
+    return grpc::Status::OK;
+}
+
+}  // namespace
+
 grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
                               ValidatedSpec& out) {
     registerBuiltinAlgorithms();
@@ -98,107 +173,20 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (!entry)
         return invalid("unknown algorithm '" + quoteInput(out.algorithm) +
                        "' (this server has: " + algorithmList() + ")");
-
-    RenderSettings& s = out.settings;
-    s = RenderSettings{};
-    if (spec.camera().size() > 256) return invalid("the camera name is longer than 256 characters");
     if (spec.label().size() > 1024) return invalid("the label is longer than 1024 characters");
     if (spec.scene_file().size() > 255)
         return invalid("the scene file name is longer than 255 characters");
-    s.cameraName = spec.camera();
 
-    if (spec.has_width()) s.width = spec.width();
-    if (spec.has_height()) s.height = spec.height();
-    if (s.width < 1 || s.height < 1)
-        return invalid("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                       " is invalid: width and height must be >= 1");
-    if (s.width > limits.maxWidth || s.height > limits.maxHeight)
-        return exhausted("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                         " exceeds this server's limit of " + std::to_string(limits.maxWidth) +
-                         "x" + std::to_string(limits.maxHeight));
-
-    bool budgetSet = spec.has_budget() && !(spec.budget().kind() == pb::BUDGET_KIND_UNSPECIFIED &&
-                                            spec.budget().amount() == 0);
-    if (!budgetSet) {
-        s.budgetKind = entry->nativeBudget;
-        s.budget = 16;
-    } else {
-        int kind = spec.budget().kind();
-        if (!pb::BudgetKind_IsValid(kind))
-            return invalid("unknown budget kind " + std::to_string(kind));
-        switch (kind) {
-            case pb::BUDGET_KIND_SAMPLES_PER_PIXEL:
-                s.budgetKind = BudgetKind::SamplesPerPixel;
-                break;
-            case pb::BUDGET_KIND_MUTATIONS_PER_PIXEL:
-                s.budgetKind = BudgetKind::MutationsPerPixel;
-                break;
-            case pb::BUDGET_KIND_SECONDS:
-                s.budgetKind = BudgetKind::Seconds;
-                break;
-            default:
-                return invalid(
-                    "budget kind is unspecified: set samples per pixel, mutations per pixel or "
-                    "seconds");
-        }
-        s.budget = spec.budget().amount();
-        if (s.budgetKind != BudgetKind::Seconds && s.budgetKind != entry->nativeBudget)
-            return invalid("algorithm '" + out.algorithm + "' takes its budget in " +
-                           budgetUnit(entry->nativeBudget) + " or seconds, not " +
-                           budgetUnit(s.budgetKind));
-        if (!std::isfinite(s.budget) || s.budget <= 0)
-            return invalid("the budget must be a positive number, got " + num(s.budget));
-        if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
-            return exhausted("time budget " + num(s.budget) + " s exceeds this server's limit of " +
-                             num(limits.maxSeconds) + " s");
-        if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
-            return exhausted("budget " + num(s.budget) + " " + budgetUnit(s.budgetKind) +
-                             " exceeds this server's limit of " + num(limits.maxSamplesPerPixel));
-    }
-
-    if (spec.has_k()) s.partitions = spec.k();
-    if (spec.prepass().size() > 64)
-        return invalid("the pre-pass name is longer than 64 characters");
-    if (!spec.prepass().empty()) s.prepass = spec.prepass();
-    if (spec.has_bootstrap_samples()) s.bootstrapSamples = spec.bootstrap_samples();
-    if (spec.has_y()) s.guideCandidates = spec.y();
-    if (spec.has_radius()) s.guideRadius = spec.radius();
-    if (spec.has_epsilon()) s.guideEpsilon = spec.epsilon();
-    if (spec.has_seed()) s.seed = spec.seed();
-    if (spec.has_max_depth()) s.maxDepth = spec.max_depth();
-    if (spec.has_max_type_layers()) s.maxTypeLayers = spec.max_type_layers();
-    if (spec.environment_color_size() != 0) {
-        if (spec.environment_color_size() != 3)
-            return invalid("environment_color needs 3 values (R, G, B), got " +
-                           std::to_string(spec.environment_color_size()));
-        s.environment.hasColor = true;
-        for (int k = 0; k < 3; ++k) s.environment.color[size_t(k)] = spec.environment_color(k);
-    }
-    if (!spec.environment_file().empty()) {
-        const std::string& f = spec.environment_file();
-        if (f.size() > 1024) return invalid("environment_file is longer than 1024 characters");
-        std::string ext = fs::path(f).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        if (ext != ".exr" && ext != ".hdr")
-            return invalid("environment_file must be an .exr or .hdr image, got '" + quoteInput(f) +
-                           "'");
-        if (spec.scene().has_glb())
-            return invalid(
-                "an environment image goes with a .gltf upload (as one of its "
-                "resources) or a named scene, not with a .glb");
-        s.environment.file = f;
-    }
-    if (spec.has_environment_rotation_degrees())
-        s.environment.rotationDegrees = spec.environment_rotation_degrees();
-    if (spec.has_preview_interval_seconds()) {
-        double p = spec.preview_interval_seconds();
-        if (!std::isfinite(p) || p < 0 || (p > 0 && p < 0.05))
-            return invalid("preview interval must be 0 (no previews) or at least 0.05 s, got " +
-                           num(p));
-        s.previewIntervalSeconds = p;
-    }
-    if (std::string err = validateSettings(s, limits.renderLimits()); !err.empty())
-        return invalid(err);
+    RenderSettings& s = out.settings;
+    s = RenderSettings{};
+    if (grpc::Status st = budgetFromSpec(spec, *entry, limits, s); !st.ok()) return st;
+    ParameterValues given;
+    if (std::string why = givenParameters(*entry, spec, given); !why.empty()) return invalid(why);
+    if (std::string why = applyJobParameters(*entry, given, s); !why.empty()) return invalid(why);
+    fillAlgorithmDefaults(*entry, s);
+    if (grpc::Status st = checkServerLimits(spec, s, limits); !st.ok()) return st;
+    if (std::string why = validateJob(*entry, s, limits.renderLimits()); !why.empty())
+        return invalid(why);
     return grpc::Status::OK;
 }
 

@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/errors.h"
 #include "cli/signals.h"
+#include "frontend/render_options.h"
 
 #ifndef PARTITA_VERSION
 #define PARTITA_VERSION "0.0.0"
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", PARTITA_VERSION);
     app.fallthrough();
     GlobalOptions global;
+    global.helpAlgorithm = partita::algorithmInArguments(argc, argv);
     app.add_option("--server", global.server.server,
                    "HOST:PORT of a partitad (default: start a private one for this command)");
     app.add_option("--token-file", global.server.tokenFile,

@@ -94,7 +94,7 @@ Command addRenderCommand(CLI::App& app, const GlobalOptions& global) {
                     "a .gltf/.glb file (uploaded with its resources) or a scene name of the "
                     "server's scene root")
         ->required();
-    addJobOptions(*sub, args->flags);
+    addJobOptions(*sub, args->flags, global.helpAlgorithm);
     sub->add_option("--out", args->out,
                     "result EXR; the PNG and the JSON metadata go beside it (default: "
                     "<scene>.exr)");

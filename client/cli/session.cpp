@@ -1,5 +1,6 @@
 #include "cli/session.h"
 
+#include "cli/job_spec.h"
 #include "cli/table.h"
 #include "frontend/progress_bar.h"
 
@@ -51,12 +52,15 @@ void Session::checkLimits(const partita::v1::JobSpec& spec) {
                            formatCount(limit) + unit,
                        "RESOURCE_EXHAUSTED");
     };
-    if (l.max_width() > 0 && spec.has_width() && spec.width() > l.max_width())
-        over("--width", spec.width(), l.max_width(), " pixels");
-    if (l.max_height() > 0 && spec.has_height() && spec.height() > l.max_height())
-        over("--height", spec.height(), l.max_height(), " pixels");
-    if (l.max_depth() > 0 && spec.has_max_depth() && spec.max_depth() > l.max_depth())
-        over("--max-depth", spec.max_depth(), l.max_depth(), "");
+    std::string error;
+    const RenderSettings s = settingsOfSpec(spec, error);
+    if (!error.empty()) return;  // the server's message says what is wrong
+    if (l.max_width() > 0 && s.width > l.max_width())
+        over("--width", s.width, l.max_width(), " pixels");
+    if (l.max_height() > 0 && s.height > l.max_height())
+        over("--height", s.height, l.max_height(), " pixels");
+    if (l.max_depth() > 0 && s.maxDepth > l.max_depth())
+        over("--max-depth", s.maxDepth, l.max_depth(), "");
     const auto& b = spec.budget();
     if (b.kind() == partita::v1::BUDGET_KIND_SECONDS) {
         if (l.max_seconds() > 0 && b.amount() > l.max_seconds())

@@ -16,6 +16,8 @@ namespace partita::cli {
 struct GlobalOptions {
     ServerOptions server;
     bool quiet = false;  // no progress bar, no informational lines
+    /// The --algorithm of the command line, read before parsing: --help lists its parameters.
+    std::string helpAlgorithm;
 };
 
 class Session {

@@ -1,81 +1,62 @@
 #include "cli/sweep_axis.h"
 
-#include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstdint>
-#include <cstdlib>
 #include <set>
 
+#include "algorithm.h"
 #include "cli/errors.h"
+#include "cli/job_spec.h"
+#include "params/job_parameters.h"
 
 namespace partita::cli {
 
 namespace {
 
-enum class Kind { Int, UInt, Real };
-
-struct Param {
-    const char* name;
-    Kind kind;
-};
-
-constexpr Param kParams[] = {
-    {"y", Kind::Int},     {"radius", Kind::Real}, {"k", Kind::Int},        {"epsilon", Kind::Real},
-    {"spp", Kind::Real},  {"mpp", Kind::Real},    {"seconds", Kind::Real}, {"max-depth", Kind::Int},
-    {"seed", Kind::UInt}, {"width", Kind::Int},   {"height", Kind::Int},
-};
-
-const Param* findParam(const std::string& name) {
-    for (const auto& p : kParams)
-        if (name == p.name) return &p;
-    return nullptr;
+bool isBudget(const std::string& name) {
+    return name == "spp" || name == "mpp" || name == "seconds";
 }
 
-bool parseNumber(const std::string& s, Kind kind, double* real, long long* integer,
-                 unsigned long long* uinteger) {
-    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return false;
-    char* end = nullptr;
-    errno = 0;
-    switch (kind) {
-        case Kind::Real:
-            *real = std::strtod(s.c_str(), &end);
-            break;
-        case Kind::Int:
-            *integer = std::strtoll(s.c_str(), &end, 10);
-            break;
-        case Kind::UInt:
-            if (s.front() == '-') return false;
-            *uinteger = std::strtoull(s.c_str(), &end, 10);
-            break;
+/// The declaration of `name` for `algorithm` in this build, or null (an algorithm or a
+/// parameter only the server knows).
+const ParameterSpec* declaration(const std::string& name, const std::string& algorithm,
+                                 std::vector<ParameterSpec>& specs) {
+    registerBuiltinAlgorithms();
+    const auto* entry = AlgorithmRegistry::instance().find(algorithm);
+    specs = entry ? jobParameterSpecs(*entry) : sharedParameters().specs();
+    return findParameter(specs, canonicalName(name));
+}
+
+/// "" when `value` reads as a value of the axis, else why not.
+std::string checkValue(const std::string& name, const std::string& value,
+                       const std::string& algorithm) {
+    if (isBudget(name)) {
+        char* end = nullptr;
+        double v = std::strtod(value.c_str(), &end);
+        return end == value.c_str() + value.size() && std::isfinite(v) && !value.empty()
+                   ? ""
+                   : "'" + value + "' is not a number";
     }
-    if (errno != 0 || end != s.c_str() + s.size()) return false;
-    if (kind == Kind::Real && !std::isfinite(*real)) return false;
-    if (kind == Kind::Int && (*integer < INT32_MIN || *integer > INT32_MAX)) return false;
-    return true;
+    std::vector<ParameterSpec> specs;
+    const ParameterSpec* spec = declaration(name, algorithm, specs);
+    if (!spec) return "";
+    std::string error;
+    std::optional<ParameterValue> v = parseParameter(*spec, value, error);
+    if (v) error = checkParameter(*spec, *v);
+    return error;
 }
 
 }  // namespace
 
-std::string sweepParameterNames() {
-    std::string out;
-    for (const auto& p : kParams) out += (out.empty() ? "" : ", ") + std::string(p.name);
-    return out;
-}
-
-SweepAxis parseSweepAxis(const std::string& text) {
+SweepAxis parseSweepAxis(const std::string& text, const std::string& algorithm) {
     auto bad = [&](const std::string& why) -> SweepAxis {
         throw CliError("bad --sweep '" + text + "': " + why +
-                       " (expected NAME=V1,V2,... with NAME one of " + sweepParameterNames() + ")");
+                       " (expected NAME=V1,V2,... with NAME spp, mpp, seconds or a parameter of "
+                       "the algorithm: see --help with --algorithm)");
     };
     size_t eq = text.find('=');
     if (eq == std::string::npos || eq == 0) return bad("no NAME=");
     SweepAxis axis;
-    axis.name = text.substr(0, eq);
-    for (char& c : axis.name)
-        if (c == '_') c = '-';
-    const Param* param = findParam(axis.name);
-    if (!param) return bad("unknown parameter '" + axis.name + "'");
+    axis.name = flagName(text.substr(0, eq));
     std::string list = text.substr(eq + 1);
     std::set<std::string> seen;
     size_t start = 0;
@@ -83,13 +64,8 @@ SweepAxis parseSweepAxis(const std::string& text) {
         size_t comma = list.find(',', start);
         std::string v =
             list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        double r;
-        long long i;
-        unsigned long long u;
         if (v.empty()) return bad("empty value");
-        if (!parseNumber(v, param->kind, &r, &i, &u))
-            return bad("'" + v + "' is not " +
-                       (param->kind == Kind::Real ? "a number" : "a whole number"));
+        if (std::string why = checkValue(axis.name, v, algorithm); !why.empty()) return bad(why);
         if (!seen.insert(v).second) return bad("value '" + v + "' repeats");
         axis.values.push_back(v);
         if (comma == std::string::npos) break;
@@ -100,38 +76,18 @@ SweepAxis parseSweepAxis(const std::string& text) {
 
 void applySweepValue(partita::v1::JobSpec& spec, const std::string& name,
                      const std::string& value) {
-    const Param* param = findParam(name);
-    double r = 0;
-    long long i = 0;
-    unsigned long long u = 0;
-    if (!param || !parseNumber(value, param->kind, &r, &i, &u))
-        throw CliError("bad sweep value " + name + "=" + value);
     auto budget = [&](partita::v1::BudgetKind kind) {
         spec.mutable_budget()->set_kind(kind);
-        spec.mutable_budget()->set_amount(r);
+        spec.mutable_budget()->set_amount(std::strtod(value.c_str(), nullptr));
     };
-    if (name == "y")
-        spec.set_y(int32_t(i));
-    else if (name == "radius")
-        spec.set_radius(float(r));
-    else if (name == "k")
-        spec.set_k(int32_t(i));
-    else if (name == "epsilon")
-        spec.set_epsilon(float(r));
-    else if (name == "spp")
+    if (name == "spp")
         budget(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
     else if (name == "mpp")
         budget(partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL);
     else if (name == "seconds")
         budget(partita::v1::BUDGET_KIND_SECONDS);
-    else if (name == "max-depth")
-        spec.set_max_depth(int32_t(i));
-    else if (name == "seed")
-        spec.set_seed(u);
-    else if (name == "width")
-        spec.set_width(int32_t(i));
-    else if (name == "height")
-        spec.set_height(int32_t(i));
+    else
+        setParameter(spec, name, value);
 }
 
 }  // namespace partita::cli

@@ -21,6 +21,7 @@
 #include "cli/sweep_axis.h"
 #include "cli/table.h"
 #include "cli/watch.h"
+#include "params/job_parameters.h"
 
 namespace partita::cli {
 
@@ -42,13 +43,15 @@ struct Cell {
     double rmse = std::numeric_limits<double>::quiet_NaN(), relMse = rmse, seconds = rmse;
 };
 
-std::vector<SweepAxis> parseAxes(const std::vector<std::string>& sweeps) {
+std::vector<SweepAxis> parseAxes(const std::vector<std::string>& sweeps,
+                                 const std::string& algorithm) {
     if (sweeps.empty())
-        throw CliError("sweep needs --sweep NAME=V1,V2,... (NAME one of " + sweepParameterNames() +
-                       ")");
+        throw CliError(
+            "sweep needs --sweep NAME=V1,V2,... (NAME spp, mpp, seconds or a parameter of the "
+            "algorithm)");
     if (sweeps.size() > 2) throw CliError("sweep takes at most two --sweep axes");
     std::vector<SweepAxis> axes;
-    for (const auto& s : sweeps) axes.push_back(parseSweepAxis(s));
+    for (const auto& s : sweeps) axes.push_back(parseSweepAxis(s, algorithm));
     if (axes.size() == 2 && axes[0].name == axes[1].name)
         throw CliError("both --sweep axes name '" + axes[0].name + "'");
     int budgets = 0;
@@ -61,9 +64,9 @@ std::vector<SweepAxis> parseAxes(const std::vector<std::string>& sweeps) {
 /// server's defaults, RenderSettings'), before anything is submitted.
 void checkReferenceSize(const partita::v1::JobSpec& spec, const LayeredImage& reference,
                         const std::string& point, const std::string& file) {
-    const RenderSettings defaults;
-    int w = spec.has_width() ? spec.width() : defaults.width;
-    int h = spec.has_height() ? spec.height() : defaults.height;
+    std::string error;
+    const RenderSettings s = settingsOfSpec(spec, error);
+    int w = s.width, h = s.height;
     if (w == reference.combined.width && h == reference.combined.height) return;
     throw CliError("sweep point " + point + " renders " + std::to_string(w) + "x" +
                    std::to_string(h) + " but the reference " + file + " is " +
@@ -72,10 +75,10 @@ void checkReferenceSize(const partita::v1::JobSpec& spec, const LayeredImage& re
                    ": give --width/--height of the reference, or another reference");
 }
 
-/// Refuses an axis over a parameter the algorithm ignores: every image would be the same.
-void checkAxesMatter(Session& session, const std::string& algorithm,
+/// Refuses an axis over a parameter the algorithm ignores (`reads`: the budgets and parameters
+/// it takes, in the CLI's spelling): every image would be the same.
+void checkAxesMatter(const std::vector<std::string>& reads, const std::string& algorithm,
                      const std::vector<SweepAxis>& axes) {
-    std::vector<std::string> reads = session.algorithmParameters(algorithm);
     if (reads.empty()) return;  // the server does not say
     std::string list;
     for (const auto& p : reads) list += (list.empty() ? "" : ", ") + p;
@@ -87,8 +90,20 @@ void checkAxesMatter(Session& session, const std::string& algorithm,
                            "INVALID_ARGUMENT");
 }
 
+/// What `algorithm` takes as this build declares it (the server's own algorithms: nothing).
+std::vector<std::string> localParameters(const std::string& algorithm) {
+    registerBuiltinAlgorithms();
+    const auto* entry = AlgorithmRegistry::instance().find(algorithm);
+    if (!entry) return {};
+    std::vector<std::string> out;
+    for (BudgetKind kind : entry->budgets()) out.push_back(budgetKindName(kind));
+    for (const ParameterSpec& spec : jobParameterSpecs(*entry)) out.push_back(flagName(spec.name));
+    return out;
+}
+
 int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
-    const std::vector<SweepAxis> axes = parseAxes(a.sweeps);
+    const std::vector<SweepAxis> axes = parseAxes(a.sweeps, a.flags.render.algorithm);
+    checkAxesMatter(localParameters(a.flags.render.algorithm), a.flags.render.algorithm, axes);
     const SceneArgument scene = classifyScene(a.scene);
     partita::v1::JobSpec base = makeJobSpec(sub, a.flags);
     *base.mutable_scene() = loadSceneSource(scene);
@@ -129,7 +144,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     Session session(global, a.flags.render.threads);
     Connection& conn = session.connection();
     session.checkAlgorithm(base.algorithm());
-    checkAxesMatter(session, base.algorithm(), axes);
+    checkAxesMatter(session.algorithmParameters(base.algorithm()), base.algorithm(), axes);
     for (const auto& c : cells) session.checkLimits(c.spec);
     auto cancelRest = [&] {
         for (auto& c : cells)
@@ -221,10 +236,11 @@ Command addSweepCommand(CLI::App& app, const GlobalOptions& global) {
     CLI::App* sub = app.add_subcommand("sweep", "render a grid over one or two job parameters");
     sub->add_option("scene", args->scene, "a .gltf/.glb file or a scene name")->required();
     sub->add_option("--sweep", args->sweeps,
-                    "NAME=V1,V2,... (given once or twice); NAME: " + sweepParameterNames())
+                    "NAME=V1,V2,... (given once or twice); NAME: spp, mpp, seconds or a "
+                    "parameter of the algorithm (see --help with --algorithm)")
         ->allow_extra_args(false)
         ->required();
-    addJobOptions(*sub, args->flags);
+    addJobOptions(*sub, args->flags, global.helpAlgorithm);
     sub->add_option("--reference", args->reference, "reference EXR for RMSE and relMSE");
     sub->add_option("--out-dir", args->outDir,
                     "folder for the results and sweep.csv (default: sweep-<scene>)");

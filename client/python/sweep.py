@@ -6,8 +6,9 @@
              (--reference REF.exr | --reference-spp N [--reference-algorithm A]) [--out-dir DIR]
 
 SCENE is a .gltf/.glb file (uploaded) or a scene name of the server's scene root. The
-parameters are job parameters: y, radius, k, epsilon, spp, mpp, seconds, max-depth, seed, width,
-height. The defaults are the paper's Figure 8 study: rows R (radius, pixels), columns |Y'| (y).
+parameters are a budget (spp, mpp, seconds) or any parameter the algorithm declares (the server
+lists them: y, radius, k, epsilon, max-depth, seed, width, height, ...; `partita render
+--algorithm A --help` shows A's with their defaults and ranges). The defaults are the paper's Figure 8 study: rows R (radius, pixels), columns |Y'| (y).
 --set fixes others for every job (e.g. --set mpp=32 --set width=160). Without --algorithm it
 renders with "guided" when the server offers it, else "pt". A parameter the algorithm ignores
 (the server says which it reads) is refused, since every image would be the same: with "pt",
@@ -50,8 +51,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import numpy as np  # noqa: E402
 
-PARAMS = {"y": int, "radius": float, "k": int, "epsilon": float, "spp": float, "mpp": float,
-          "seconds": float, "max-depth": int, "seed": int, "width": int, "height": int}
 BUDGETS = ("spp", "mpp", "seconds")
 # The paper's Figure 8: rows R, columns |Y'|.
 DEFAULT_ROWS = "radius=2,5,10,20,40"
@@ -64,20 +63,24 @@ class UsageError(Exception):
 
 
 def parse_value(name: str, text: str):
-    kind = PARAMS[name]
-    try:
-        v = kind(text)
-    except ValueError:
-        raise UsageError(f"{name}={text}: not {'a whole number' if kind is int else 'a number'}")
-    return v
+    """A whole number, a number, or else the text: the server reads each value with the
+    parameter's declaration and names the parameter when one does not fit."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    if name in BUDGETS:
+        raise UsageError(f"{name}={text}: not a number")
+    return text
 
 
 def parse_axis(text: str):
     name, eq, values = text.partition("=")
     name = name.replace("_", "-")
-    if not eq or name not in PARAMS:
-        raise UsageError(f"bad parameter '{text}': expected NAME=V1,V2,... with NAME one of "
-                         f"{', '.join(PARAMS)}")
+    if not eq or not name:
+        raise UsageError(f"bad parameter '{text}': expected NAME=V1,V2,... with NAME a budget "
+                         f"({', '.join(BUDGETS)}) or a parameter of the algorithm")
     items = values.split(",")
     if not values or any(not v for v in items):
         raise UsageError(f"bad parameter '{text}': empty value")
@@ -220,9 +223,9 @@ def run(args) -> int:
     for s in args.set:
         name, eq, value = s.partition("=")
         name = name.replace("_", "-")
-        if not eq or name not in PARAMS:
-            raise UsageError(f"bad --set '{s}': expected NAME=VALUE with NAME one of "
-                             f"{', '.join(PARAMS)}")
+        if not eq or not name:
+            raise UsageError(f"bad --set '{s}': expected NAME=VALUE with NAME a budget or a "
+                             f"parameter of the algorithm")
         fixed[name] = parse_value(name, value)
     if sum(n in BUDGETS for n in {n1, n2, *fixed}) > 1:
         raise UsageError("spp, mpp and seconds all set the budget: give only one of them")
@@ -261,7 +264,7 @@ def run(args) -> int:
                 print(f"sweep.py: the server has no 'guided' algorithm; sweeping '{algorithm}'",
                       file=sys.stderr)
         reads = client.algorithm_parameters(algorithm)
-        for flag, name in (("--param1", n1), ("--param2", n2)):
+        for flag, name in (("--param1", n1), ("--param2", n2), *(("--set", n) for n in fixed)):
             if reads and name not in reads:
                 raise UsageError(f"{flag} {name}: algorithm '{algorithm}' ignores {name}, so "
                                  f"every image would be the same ({algorithm} reads "

@@ -163,15 +163,15 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     double pixels = double(rs.width) * rs.height;
 
     std::string why;
-    StartupEstimator estimator = choosePrepassEstimator(ctx.scene, rs.prepass, why);
+    StartupEstimator estimator = choosePrepassEstimator(ctx.scene, settings.prepass, why);
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed, estimator);
-    uint64_t samples = rs.bootstrapSamples > 0 ? rs.bootstrapSamples : settings.prepassSamples;
+    uint64_t samples = settings.bootstrapSamples;
     PrepassResult prepass = runPrepass(ctx, sampler, samples, settings.prepassMemoryBytes);
     double prepassSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 
     PartitionedStart out;
-    out.partitions = makePartitions(prepass, rs.partitions);
+    out.partitions = makePartitions(prepass, settings.k);
     // A time budget has no mutation count: a nominal one only splits the chains' shares.
     uint64_t budget = timed ? (uint64_t(1) << 50) : uint64_t(rs.budget * pixels);
     std::vector<uint64_t> perPartition =

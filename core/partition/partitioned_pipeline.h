@@ -19,19 +19,12 @@
 #include "mcmc/chain_runner.h"
 #include "mcmc/veach_mutations.h"
 #include "partition/partition.h"
+#include "partition/pipeline_settings.h"
 #include "partition/prepass.h"
 #include "shard/shardable.h"
 
 namespace partita {
 
-struct PartitionPipelineSettings {
-    uint64_t prepassSamples = 100000;  // the same start-up budget as mlt's bootstrap
-    uint64_t burnIn = 1024;            // per chain, before its first splat (the paper's)
-    int chains = 256;                  // over all partitions, in proportion to P(i)
-    uint64_t minMutationsPerChain = 32;
-    uint64_t roundMutations = 1024;
-    uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
-};
 
 /// Each partition's (group's) chain mutations, for one algorithm.
 class PartitionMutations {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "byte_stream.h"
+#include "params/job_parameters.h"
 
 namespace partita {
 
@@ -11,58 +12,45 @@ namespace {
 
 constexpr uint32_t kPlanMagic = 0x4e4c5050;    // "PPLN"
 constexpr uint32_t kResultMagic = 0x44485350;  // "PSHD"
-constexpr uint32_t kPlanVersion = 1;
+constexpr uint32_t kPlanVersion = 2;  // 2: settings as named parameters
 constexpr uint32_t kResultVersion = 1;
 
-// Every field of RenderSettings travels in the plan. A field added to the struct changes its
-// size and stops the build here: add it below (and bump kPlanVersion).
-static_assert(sizeof(RenderSettings) == 200, "a RenderSettings field is not in the shard plan");
-
-void putSettings(ByteWriter& w, const RenderSettings& s) {
-    w.put(int32_t(s.width));
-    w.put(int32_t(s.height));
-    w.putString(s.cameraName);
+// The plan's settings: the budget, then every declared parameter of the job (shared and the
+// algorithm's, defaults filled in) as its name and its text (formatParameter, which reads back
+// exactly), so that a setting added to a declaration travels without a change here.
+void putSettings(ByteWriter& w, const std::string& algorithm, const RenderSettings& s) {
     w.put(uint8_t(s.budgetKind));
     w.put(s.budget);
-    w.put(s.seed);
-    w.put(int32_t(s.maxDepth));
-    w.put(int32_t(s.partitions));
-    w.put(int32_t(s.guideCandidates));
-    w.put(s.guideRadius);
-    w.put(s.guideEpsilon);
-    w.put(s.bootstrapSamples);
-    w.putString(s.prepass);
-    w.putString(s.environment.file);
-    w.put(uint8_t(s.environment.hasColor));
-    w.put(s.environment.color);
-    w.put(s.environment.rotationDegrees);
-    w.put(int32_t(s.maxTypeLayers));
-    w.put(s.previewIntervalSeconds);
+    std::vector<JobParameter> parameters = jobParameters(registeredAlgorithm(algorithm), s);
+    std::erase_if(parameters, [](const JobParameter& p) {
+        return std::holds_alternative<std::monostate>(p.value);
+    });
+    w.put(uint32_t(parameters.size()));
+    for (const JobParameter& p : parameters) {
+        w.putString(p.spec->name);
+        w.putString(formatParameter(*p.spec, p.value));
+    }
 }
 
-RenderSettings getSettings(ByteReader& r) {
+RenderSettings getSettings(ByteReader& r, const std::string& algorithm) {
     RenderSettings s;
-    s.width = r.get<int32_t>();
-    s.height = r.get<int32_t>();
-    s.cameraName = r.getString();
     uint8_t kind = r.get<uint8_t>();
     if (kind > uint8_t(BudgetKind::Seconds)) r.fail("bad budget kind");
     s.budgetKind = BudgetKind(kind);
     s.budget = r.get<double>();
-    s.seed = r.get<uint64_t>();
-    s.maxDepth = r.get<int32_t>();
-    s.partitions = r.get<int32_t>();
-    s.guideCandidates = r.get<int32_t>();
-    s.guideRadius = r.get<float>();
-    s.guideEpsilon = r.get<float>();
-    s.bootstrapSamples = r.get<uint64_t>();
-    s.prepass = r.getString();
-    s.environment.file = r.getString();
-    s.environment.hasColor = r.get<uint8_t>() != 0;
-    s.environment.color = r.get<std::array<float, 3>>();
-    s.environment.rotationDegrees = r.get<float>();
-    s.maxTypeLayers = r.get<int32_t>();
-    s.previewIntervalSeconds = r.get<double>();
+    ParameterValues values;
+    uint32_t count = r.get<uint32_t>();
+    for (uint32_t i = 0; i < count; ++i) {
+        std::string name = r.getString();
+        values.set(name, r.getString());
+    }
+    const AlgorithmRegistry::Entry* entry = nullptr;
+    try {
+        entry = &registeredAlgorithm(algorithm);
+    } catch (const std::invalid_argument& e) {
+        r.fail(e.what());
+    }
+    if (std::string why = applyJobParameters(*entry, values, s); !why.empty()) r.fail(why);
     return s;
 }
 
@@ -92,7 +80,7 @@ std::vector<uint8_t> serializeShardPlan(const ShardPlan& p) {
     w.putString(p.algorithm);
     w.putString(p.scene);
     w.put(p.sceneDigest);
-    putSettings(w, p.settings);
+    putSettings(w, p.algorithm, p.settings);
     w.put(p.shards);
     w.putBytes(p.state);
     return std::move(w.bytes);
@@ -105,7 +93,7 @@ ShardPlan deserializeShardPlan(std::span<const uint8_t> bytes) {
     p.algorithm = r.getString();
     p.scene = r.getString();
     p.sceneDigest = r.get<uint64_t>();
-    p.settings = getSettings(r);
+    p.settings = getSettings(r, p.algorithm);
     p.shards = r.get<uint32_t>();
     if (p.shards == 0) r.fail("no shards");
     p.state = r.getBytes();

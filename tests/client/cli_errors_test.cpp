@@ -37,16 +37,19 @@ TEST(CliErrors, EnvironmentFlags) {
 
 TEST(CliErrors, BadSweepSyntax) {
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "y8,32"}), "bad --sweep 'y8,32'");
-    expectOneLineError(partita({"sweep", "cornell", "--sweep", "y=a,b"}), "not a whole number");
+    expectOneLineError(
+        partita({"sweep", "cornell", "--algorithm", "guided", "--sweep", "y=a,b"}),
+        "y must be a whole number, got 'a'");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "colour=1,2"}),
-                       "unknown parameter 'colour'");
+                       "algorithm 'pt' ignores colour");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "spp=1,", "--sweep", "y=1"}),
                        "empty value");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "spp=1", "--sweep", "spp=2"}),
                        "both --sweep axes");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "spp=1", "--sweep", "mpp=2"}),
                        "budget");
-    expectOneLineError(partita({"sweep", "cornell", "--sweep", "width=0,8"}), "resolution");
+    expectOneLineError(partita({"sweep", "cornell", "--sweep", "width=0,8"}),
+                       "width = 0 must be >= 1");
 }
 
 TEST(CliErrors, ServerNotReachable) {

@@ -71,7 +71,7 @@ TEST(CliRender, AnEnvironmentImageTravelsWithAnUploadedScene) {
     ASSERT_EQ(r.exitCode, 0) << r.describe();
     EXPECT_GT(luminance(readExr(dir / "e.exr").combined.mean()), 1.0f);
     auto meta = nlohmann::json::parse(readText(dir / "e.json"));
-    EXPECT_EQ(meta["parameters"]["environment_file"], "partita-environment/sky.exr");
+    EXPECT_EQ(meta["parameters"]["environment"], "partita-environment/sky.exr");
 }
 
 TEST(CliRender, PrivateDaemonRendersSceneByName) {
@@ -218,7 +218,7 @@ TEST(CliRender, PartitionedRendersEndToEndAndWatchShowsThePartitionTable) {
     auto meta = nlohmann::json::parse(readText(dir / "p.json"));
     EXPECT_EQ(meta["algorithm"], "partitioned");
     EXPECT_EQ(meta["parameters"]["prepass"], "pt");
-    EXPECT_EQ(meta["parameters"]["bootstrap_samples"], 4000);
+    EXPECT_EQ(meta["parameters"]["bootstrap"], 4000);
     EXPECT_EQ(meta["stats"]["prepass_samples"], 4000.0);
     EXPECT_EQ(meta["labels"]["partition_0_type"], image.layers.front().name);
 
@@ -239,7 +239,7 @@ TEST(CliRender, PartitionedRendersEndToEndAndWatchShowsThePartitionTable) {
     expectOneLineError(
         partita({"--server", daemon.address(), "render", "cornell", "--algorithm", "partitioned",
                  "--prepass", "magic", "--width", "16", "--height", "12"}),
-        "pre-pass 'magic' is not one of auto, pt, bdpt");
+        "prepass 'magic' is not one of auto | pt | bdpt");
 }
 
 TEST(CliRender, CancelARunningJob) {

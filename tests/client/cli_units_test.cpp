@@ -19,7 +19,7 @@ namespace partita::cli {
 namespace {
 
 TEST(SweepAxis, ParsesAndApplies) {
-    SweepAxis a = parseSweepAxis("max_depth=1,2,8");
+    SweepAxis a = parseSweepAxis("max_depth=1,2,8", "guided");
     EXPECT_EQ(a.name, "max-depth");
     EXPECT_EQ(a.values, (std::vector<std::string>{"1", "2", "8"}));
     partita::v1::JobSpec spec;
@@ -27,17 +27,24 @@ TEST(SweepAxis, ParsesAndApplies) {
     applySweepValue(spec, "radius", "2.5");
     applySweepValue(spec, "mpp", "32");
     applySweepValue(spec, "seed", "18446744073709551615");
-    EXPECT_EQ(spec.max_depth(), 8);
-    EXPECT_FLOAT_EQ(spec.radius(), 2.5f);
+    // Parameters travel by their canonical name, as the text the server reads.
+    EXPECT_EQ(spec.parameters().at("max_depth").text_value(), "8");
+    EXPECT_EQ(spec.parameters().at("radius").text_value(), "2.5");
     EXPECT_EQ(spec.budget().kind(), partita::v1::BUDGET_KIND_MUTATIONS_PER_PIXEL);
     EXPECT_EQ(spec.budget().amount(), 32);
-    EXPECT_EQ(spec.seed(), 18446744073709551615ull);
-    EXPECT_THROW(parseSweepAxis("y=1.5"), CliError);
-    EXPECT_THROW(parseSweepAxis("seed=-1"), CliError);
-    EXPECT_THROW(parseSweepAxis("radius=inf"), CliError);
-    EXPECT_THROW(parseSweepAxis("y=1,1"), CliError);
-    EXPECT_THROW(parseSweepAxis("=1"), CliError);
-    EXPECT_THROW(parseSweepAxis("y=99999999999"), CliError);
+    EXPECT_EQ(spec.parameters().at("seed").text_value(), "18446744073709551615");
+    // Each value is read with the parameter's declaration.
+    EXPECT_THROW(parseSweepAxis("y=1.5", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("seed=-1", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("radius=inf", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("radius=0", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("y=1,1", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("=1", "guided"), CliError);
+    EXPECT_THROW(parseSweepAxis("y=99999999999", "guided"), CliError);
+    // Names the server checks against the algorithm's declarations (sweep_command.cpp), with
+    // what a sweep over them would do; values of a name this build does not know go unchecked.
+    EXPECT_NO_THROW(parseSweepAxis("radius=1,2", "pt"));
+    EXPECT_NO_THROW(parseSweepAxis("strength=1,2", "server-only"));
 }
 
 TEST(SceneSource, PercentDecodingAndClassification) {
@@ -70,10 +77,18 @@ TEST(Table, CsvQuotes) {
 
 TEST(JobSpec, ValidatesLikeTheCore) {
     partita::v1::JobSpec spec;
+    spec.set_algorithm("guided");
     EXPECT_EQ(validateJobSpec(spec), "");
-    spec.set_width(0);
-    EXPECT_NE(validateJobSpec(spec), "");
-    spec.set_width(8);
+    setParameter(spec, "width", "0");
+    EXPECT_EQ(validateJobSpec(spec), "width = 0 must be >= 1");
+    setParameter(spec, "width", "8");
+    setParameter(spec, "radius", "0");
+    EXPECT_EQ(validateJobSpec(spec), "radius = 0 is outside (0, 4096] pixels");
+    setParameter(spec, "radius", "5");
+    EXPECT_EQ(validateJobSpec(spec), "");
+    spec.set_algorithm("pt");
+    EXPECT_EQ(validateJobSpec(spec).rfind("unknown parameter 'radius' for pt", 0), 0u);
+    spec.mutable_parameters()->erase("radius");
     spec.mutable_budget()->set_kind(partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL);
     spec.mutable_budget()->set_amount(1.5);
     EXPECT_NE(validateJobSpec(spec).find("whole"), std::string::npos);

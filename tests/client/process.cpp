@@ -221,10 +221,10 @@ RunResult runInTerminal(const std::vector<std::string>& args, int columns, int r
     return result;
 }
 
-Daemon::Daemon(const std::vector<std::string>& extraArgs) {
+Daemon::Daemon(const std::vector<std::string>& extraArgs, const std::string& binary) {
     const fs::path portFile = dir_ / "port", log = dir_ / "partitad.log";
     fs::create_directory(dir_ / "store");
-    std::vector<std::string> args = {PARTITAD_PATH,
+    std::vector<std::string> args = {binary,
                                      "--listen",
                                      "127.0.0.1:0",
                                      "--port-file",

@@ -76,10 +76,12 @@ class TempDir {
     std::filesystem::path path_;
 };
 
-/// partitad --listen 127.0.0.1:0 --port-file ... --store <tmp> --scene-root <repo>/scenes.
+/// partitad --listen 127.0.0.1:0 --port-file ... --store <tmp> --scene-root <repo>/scenes;
+/// `binary`: another build of it (a daemon with a test's own algorithm).
 class Daemon {
   public:
-    explicit Daemon(const std::vector<std::string>& extraArgs = {});
+    explicit Daemon(const std::vector<std::string>& extraArgs = {},
+                    const std::string& binary = PARTITAD_PATH);
     ~Daemon();
     const std::string& address() const { return address_; }
     std::string log() const;

@@ -67,7 +67,7 @@ TEST(ServiceEnvironment, AColourLightsASceneWithoutLightsAndItsAbsenceIsANote) {
     Fetched litMeta = fetch(*stub, lit, pb::RESULT_KIND_METADATA);
     auto params = nlohmann::json::parse(litMeta.bytes)["parameters"];
     EXPECT_EQ(params["environment_color"].size(), 3u);
-    EXPECT_EQ(params["environment_rotation_degrees"], 30.0);
+    EXPECT_EQ(params["environment_rotation"], 30.0);
 }
 
 /// An equirectangular EXR of one colour, as bytes.

@@ -25,6 +25,15 @@ struct Case {
     std::string message;  // a part of the error message
 };
 
+/// `change` on a job of guided (its own parameters are k, y, radius, epsilon, ...).
+std::function<void(pb::JobSpec&)> guided(std::function<void(pb::JobSpec&)> change) {
+    return [change](pb::JobSpec& s) {
+        s.set_algorithm("guided");
+        s.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+        change(s);
+    };
+}
+
 TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
     TempDir store;
     Daemon daemon(store.path(), kSmallLimits);
@@ -55,9 +64,9 @@ TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
         {"unknown algorithm", [](pb::JobSpec& s) { s.set_algorithm("magic"); },
          Code::INVALID_ARGUMENT, "unknown algorithm 'magic' (this server has: bdpt, guided, mlt, "},
         {"zero width", [](pb::JobSpec& s) { s.set_width(0); }, Code::INVALID_ARGUMENT,
-         "resolution"},
+         "width = 0 must be >= 1"},
         {"negative height", [](pb::JobSpec& s) { s.set_height(-4); }, Code::INVALID_ARGUMENT,
-         "resolution"},
+         "height = -4 must be >= 1"},
         {"too wide", [](pb::JobSpec& s) { s.set_width(1000); }, Code::RESOURCE_EXHAUSTED,
          "limit of 256x200"},
         {"too tall", [](pb::JobSpec& s) { s.set_height(201); }, Code::RESOURCE_EXHAUSTED, "limit"},
@@ -82,22 +91,41 @@ TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
         {"mutations for pt",
          [](pb::JobSpec& s) { s.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL); },
          Code::INVALID_ARGUMENT, "samples per pixel"},
-        {"k < 0", [](pb::JobSpec& s) { s.set_k(-1); }, Code::INVALID_ARGUMENT, "K (partitions)"},
-        {"|Y'| = 0", [](pb::JobSpec& s) { s.set_y(0); }, Code::INVALID_ARGUMENT, "|Y'|"},
-        {"negative radius", [](pb::JobSpec& s) { s.set_radius(-1); }, Code::INVALID_ARGUMENT,
-         "radius"},
-        {"epsilon > 1", [](pb::JobSpec& s) { s.set_epsilon(2); }, Code::INVALID_ARGUMENT,
-         "epsilon"},
+        {"k < 0", guided([](pb::JobSpec& s) { s.set_k(-1); }), Code::INVALID_ARGUMENT,
+         "k = -1 is outside [0, 64] partitions"},
+        {"|Y'| = 0", guided([](pb::JobSpec& s) { s.set_y(0); }), Code::INVALID_ARGUMENT,
+         "y = 0 is outside [1, 4096] pixels"},
+        {"negative radius", guided([](pb::JobSpec& s) { s.set_radius(-1); }),
+         Code::INVALID_ARGUMENT, "radius = -1 is outside (0, 4096] pixels"},
+        {"epsilon > 1", guided([](pb::JobSpec& s) { s.set_epsilon(2); }), Code::INVALID_ARGUMENT,
+         "epsilon = 2 is outside (0, 1]"},
+        {"a parameter pt does not declare", [](pb::JobSpec& s) { s.set_radius(3); },
+         Code::INVALID_ARGUMENT, "unknown parameter 'radius' for pt (its parameters: width, "},
+        {"a misspelled parameter",
+         guided([](pb::JobSpec& s) { (*s.mutable_parameters())["radiuss"].set_real_value(3); }),
+         Code::INVALID_ARGUMENT, "unknown parameter 'radiuss' for guided"},
+        {"a parameter of the wrong type",
+         guided([](pb::JobSpec& s) { (*s.mutable_parameters())["y"].set_real_value(2.5); }),
+         Code::INVALID_ARGUMENT, "y must be a whole number, got 2.5"},
+        {"text that is not a number",
+         guided([](pb::JobSpec& s) { (*s.mutable_parameters())["radius"].set_text_value("x"); }),
+         Code::INVALID_ARGUMENT, "radius must be a number, got 'x'"},
+        {"a parameter given twice with two values",
+         guided([](pb::JobSpec& s) {
+             s.set_k(3);
+             (*s.mutable_parameters())["k"].set_int_value(4);
+         }),
+         Code::INVALID_ARGUMENT, "parameter k is given twice with two values"},
         {"max depth 0", [](pb::JobSpec& s) { s.set_max_depth(0); }, Code::INVALID_ARGUMENT,
-         "max depth"},
+         "max_depth = 0 must be >= 1"},
         {"max depth over the limit", [](pb::JobSpec& s) { s.set_max_depth(65); },
-         Code::INVALID_ARGUMENT, "outside 1..64"},
+         Code::INVALID_ARGUMENT, "max_depth = 65 exceeds the limit of 64"},
         {"negative preview interval", [](pb::JobSpec& s) { s.set_preview_interval_seconds(-1); },
-         Code::INVALID_ARGUMENT, "preview interval"},
+         Code::INVALID_ARGUMENT, "preview_interval = -1 must be >= 0"},
         {"tiny preview interval", [](pb::JobSpec& s) { s.set_preview_interval_seconds(0.001); },
-         Code::INVALID_ARGUMENT, "preview interval"},
+         Code::INVALID_ARGUMENT, "preview_interval must be 0 (no previews) or at least 0.05 s"},
         {"negative type layers", [](pb::JobSpec& s) { s.set_max_type_layers(-1); },
-         Code::INVALID_ARGUMENT, "type layers"},
+         Code::INVALID_ARGUMENT, "layers = -1 is outside [0, 1024]"},
     };
     for (const Case& c : cases) {
         pb::JobSpec spec = sceneSpec("cornell", 16, 16, 1);

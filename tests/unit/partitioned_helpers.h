@@ -15,6 +15,7 @@
 #include "film.h"
 #include "gltf/gltf_loader.h"
 #include "partition/partition.h"
+#include "partition/pipeline_settings.h"
 #include "partition/prepass.h"
 #include "render_helpers.h"
 #include "renderer.h"
@@ -54,7 +55,7 @@ inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint
     RenderContext ctx{scene, camera, st, pool, cancel, observer};
     std::string why;
     BootstrapSampler sampler(scene, camera, kMaxDepth, seed,
-                             choosePrepassEstimator(scene, RenderSettings{}.prepass, why));
+                             choosePrepassEstimator(scene, PartitionPipelineSettings{}.prepass, why));
     return makePartitions(runPrepass(ctx, sampler, samples), k);
 }
 
@@ -115,7 +116,7 @@ inline void expectPartitionsConverge(const std::string& algorithm, const std::st
     std::map<std::string, std::vector<std::vector<double>>> mine, reference;
     for (int seed = 0; seed < seeds; ++seed) {
         RenderSettings st = tinySettings(mpp, 10 + uint64_t(seed), BudgetKind::MutationsPerPixel);
-        st.partitions = 4;
+        st.parameters.set("k", 4);
         RenderResult r = test::renderWith(scene, algorithm, st);
         LayeredImage bdpt =
             test::renderWith(scene, "bdpt",

@@ -7,6 +7,7 @@
 // algorithm.
 #include <gtest/gtest.h>
 
+#include "params/job_parameters.h"
 #include "partitioned_helpers.h"
 #include "render_helpers.h"
 #include "renderer.h"
@@ -29,8 +30,7 @@ TEST(Guided, PartitionsConvergeOnPool) { expectPartitionsConverge("guided", "poo
 TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {
     RenderScene scene = loadScene("cornell-glass");
     RenderSettings st = tinySettings(32, 3, BudgetKind::MutationsPerPixel);
-    st.guideCandidates = 33;
-    st.guideRadius = 4;
+    st.parameters.set("y", 33).set("radius", 4);
     RenderResult r = test::renderWith(scene, "guided", st);
     EXPECT_GT(r.stats.values["proposed_guided"], 1000);
     EXPECT_GT(r.stats.values["acceptance_guided"], 0.05);
@@ -49,11 +49,13 @@ TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {
 
 TEST(Guided, BadGuideParametersAreClearErrors) {
     RenderSettings st = tinySettings(4, 1, BudgetKind::MutationsPerPixel);
-    st.guideCandidates = 0;
-    EXPECT_NE(validateSettings(st), "");
-    st.guideCandidates = 128;
-    st.guideRadius = -1;
-    EXPECT_NE(validateSettings(st), "");
+    const AlgorithmRegistry::Entry& guided = registeredAlgorithm("guided");
+    st.parameters.set("y", 0);
+    EXPECT_EQ(validateJob(guided, st), "y = 0 is outside [1, 4096] pixels");
+    st.parameters.set("y", 128).set("radius", -1);
+    EXPECT_EQ(validateJob(guided, st), "radius = -1 is outside (0, 4096] pixels");
+    st.parameters.set("radius", "wide");
+    EXPECT_EQ(validateJob(guided, st), "radius must be a number, got 'wide'");
 }
 
 }  // namespace

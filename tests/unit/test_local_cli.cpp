@@ -81,7 +81,11 @@ TEST(LocalCli, BadInputIsOneLineAndNonZero) {
     expectOneLineError("render /nonexistent/scene.gltf --quiet --out " + out.string(),
                        "scene.gltf");
     expectOneLineError("render " + scene + " --quiet --width -5 --out " + out.string(),
-                       "resolution");
+                       "width = -5 must be >= 1");
+    expectOneLineError("render " + scene + " --quiet --radius 5 --out " + out.string(),
+                       "unknown parameter 'radius' for pt");
+    expectOneLineError("render " + scene + " --quiet --param strength=1 --out " + out.string(),
+                       "unknown parameter 'strength' for pt");
     expectOneLineError(
         "render " + scene + " --quiet --width 100000 --height 100000 --out " + out.string(),
         "resolution");

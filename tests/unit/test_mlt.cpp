@@ -8,6 +8,7 @@
 #include <chrono>
 #include <thread>
 
+#include "params/job_parameters.h"
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
@@ -262,12 +263,15 @@ namespace {
 TEST(Mlt, BootstrapSamplesAreASettingWithALimit) {
     RenderSettings st = tinySettings(4, 1);
     st.budgetKind = BudgetKind::MutationsPerPixel;
-    st.bootstrapSamples = 3000;
-    EXPECT_EQ(validateSettings(st), "");
+    st.parameters.set("bootstrap", 3000);
+    const AlgorithmRegistry::Entry& mlt = registeredAlgorithm("mlt");
+    EXPECT_EQ(validateJob(mlt, st), "");
     RenderResult r = test::renderWith(loadScene("cornell"), "mlt", st);
     EXPECT_EQ(r.stats.values["bootstrap_samples"], 3000.0);
-    st.bootstrapSamples = RenderLimits{}.maxBootstrapSamples + 1;
-    EXPECT_NE(validateSettings(st).find("bootstrap samples"), std::string::npos);
+    st.parameters.set("bootstrap", RenderLimits{}.maxBootstrapSamples + 1);
+    EXPECT_NE(validateJob(mlt, st).find("exceeds the limit"), std::string::npos);
+    st.parameters.set("bootstrap", 0);
+    EXPECT_NE(validateJob(mlt, st).find("bootstrap = 0 is outside"), std::string::npos);
 }
 
 }  // namespace
@@ -279,7 +283,7 @@ namespace {
 TEST(Mlt, ATimeBudgetShorterThanTheBootstrapStillEnds) {
     RenderSettings st = tinySettings(0.01, 1);
     st.budgetKind = BudgetKind::Seconds;
-    st.bootstrapSamples = 200000;
+    st.parameters.set("bootstrap", 200000);
     auto start = std::chrono::steady_clock::now();
     RenderResult r = test::renderWith(loadScene("cornell"), "mlt", st);
     double seconds =

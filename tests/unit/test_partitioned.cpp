@@ -7,6 +7,7 @@
 
 #include <chrono>
 
+#include "params/job_parameters.h"
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
@@ -111,7 +112,7 @@ TEST(Partitioned, EdgeCasesAreDefined) {
     RenderScene scene = loadScene("cornell");
     RenderSettings st = tinySettings(8, 1, BudgetKind::MutationsPerPixel);
     // K = 0: the complement alone, all of path space.
-    st.partitions = 0;
+    st.parameters.set("k", 0);
     RenderResult none = test::renderWith(scene, "partitioned", st);
     ASSERT_EQ(none.image.layers.size(), 1u);
     EXPECT_EQ(none.image.layers[0].name, kComplementLabel);
@@ -119,7 +120,7 @@ TEST(Partitioned, EdgeCasesAreDefined) {
     // More partitions asked for than types exist: every type is a partition, no complement.
     SceneData furnace = test::furnaceScene(0.5f, 1.0f);
     RenderScene small(std::move(furnace));
-    st.partitions = 64;
+    st.parameters.set("k", 64);
     st.maxDepth = 2;
     RenderResult all = test::renderWith(small, "partitioned", st);
     ASSERT_EQ(all.image.layers.size(), 3u);  // LE, LDE, LDDE
@@ -128,7 +129,7 @@ TEST(Partitioned, EdgeCasesAreDefined) {
     SceneData dark = test::specularBoxScene();
     dark.materials[1].emissiveFactor = Rgb(0.0f);
     RenderScene black(std::move(dark));
-    st.partitions = 10;
+    st.parameters.set("k", 10);
     RenderResult r = test::renderWith(black, "partitioned", st);
     EXPECT_TRUE(r.image.layers.empty());
     EXPECT_EQ(luminance(r.image.combined.mean()), 0.0f);
@@ -145,8 +146,9 @@ TEST(Partitioned, PrepassEstimatorFollowsTheSetting) {
     EXPECT_EQ(choosePrepassEstimator(point, "pt", why), StartupEstimator::PathTracer);
     EXPECT_THROW(choosePrepassEstimator(point, "magic", why), std::invalid_argument);
     RenderSettings st = tinySettings(4, 1, BudgetKind::MutationsPerPixel);
-    st.prepass = "magic";
-    EXPECT_NE(validateSettings(st).find("pre-pass"), std::string::npos);
+    st.parameters.set("prepass", "magic");
+    EXPECT_EQ(validateJob(registeredAlgorithm("partitioned"), st),
+              "prepass 'magic' is not one of auto | pt | bdpt");
 }
 
 /// Raises the cancel flag once `phase` has run for 0.2 s; records when.
@@ -190,13 +192,13 @@ double secondsToCancel(PartitionedSettings settings, const std::string& phase) {
 
 TEST(Partitioned, CancelStopsWithinASecondInThePrepass) {
     PartitionedSettings s;
-    s.prepassSamples = 100000000;
+    s.bootstrapSamples = 100000000;
     EXPECT_LT(secondsToCancel(s, "prepass"), 1.0);
 }
 
 TEST(Partitioned, CancelStopsWithinASecondInTheChains) {
     PartitionedSettings s;
-    s.prepassSamples = 4000;
+    s.bootstrapSamples = 4000;
     EXPECT_LT(secondsToCancel(s, "render"), 1.0);
 }
 

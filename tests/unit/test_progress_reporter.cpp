@@ -138,8 +138,7 @@ TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
     s.height = 12;
     s.budgetKind = BudgetKind::MutationsPerPixel;
     s.budget = 8;
-    s.partitions = 3;
-    s.bootstrapSamples = 4000;
+    s.parameters.set("k", 3).set("bootstrap", 4000);
     s.previewIntervalSeconds = 0;
     ThreadPool pool(2);
     std::atomic<bool> cancel{false};

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "params/job_parameters.h"
 #include "eval/reference_key.h"
 
 namespace partita::eval {
@@ -81,11 +82,27 @@ TEST_F(ReferenceKeyTest, ChangesWithEverySettingThatChangesTheImage) {
               base);
     EXPECT_NE(changed([](RenderSettings& s) { s.seed = 2; }), base);
     EXPECT_NE(changed([](RenderSettings& s) { s.maxDepth = 15; }), base);
-    EXPECT_NE(changed([](RenderSettings& s) { s.partitions = 11; }), base);
-    EXPECT_NE(changed([](RenderSettings& s) { s.guideCandidates = 127; }), base);
-    EXPECT_NE(changed([](RenderSettings& s) { s.guideRadius = 10.5f; }), base);
-    EXPECT_NE(changed([](RenderSettings& s) { s.guideEpsilon = 0.02f; }), base);
     EXPECT_NE(changed([](RenderSettings& s) { s.maxTypeLayers = 1024; }), base);
+    // An algorithm's own parameters, each a declared one: any change of value changes the key,
+    // and the default written out is the same key as left unset.
+    std::string guided = key({}, "guided");
+    for (const ParameterSpec& spec : registeredAlgorithm("guided").parameters) {
+        RenderSettings s;
+        s.parameters.setValue(spec.name, spec.defaultValue);
+        EXPECT_EQ(key(s, "guided"), guided) << spec.name;
+    }
+    auto changedGuided = [&](const std::string& name, auto value) {
+        RenderSettings s;
+        s.parameters.set(name, value);
+        return key(s, "guided");
+    };
+    EXPECT_NE(changedGuided("k", 11), guided);
+    EXPECT_NE(changedGuided("y", 127), guided);
+    EXPECT_NE(changedGuided("radius", 10.5), guided);
+    EXPECT_NE(changedGuided("epsilon", 0.02), guided);
+    EXPECT_NE(changedGuided("prepass", "pt"), guided);
+    EXPECT_NE(changedGuided("bootstrap", 5000), guided);
+    EXPECT_NE(changedGuided("chains", 64), guided);
 }
 
 TEST_F(ReferenceKeyTest, ChangesWithTheEnvironmentAndItsBytes) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <random>
 
+#include "params/job_parameters.h"
 #include "gltf/gltf_loader.h"
 #include "image_bits.h"
 #include "render_helpers.h"
@@ -45,8 +46,8 @@ RenderSettings settingsOf(const Case& c) {
     s.budgetKind = c.kind;
     s.budget = c.budget;
     s.seed = 7;
-    s.bootstrapSamples = 4000;
     s.previewIntervalSeconds = 0;
+    if (!registeredAlgorithm(c.algorithm).parameters.empty()) s.parameters.set("bootstrap", 4000);
     return s;
 }
 

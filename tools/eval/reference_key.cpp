@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "gltf/gltf_io.h"
+#include "params/job_parameters.h"
 #include "gltf/resource_resolver.h"
 
 namespace partita::eval {
@@ -69,12 +70,6 @@ std::string number(T v) {
     return {buf, r.ptr};
 }
 
-const char* budgetKindName(BudgetKind k) {
-    return k == BudgetKind::SamplesPerPixel     ? "spp"
-           : k == BudgetKind::MutationsPerPixel ? "mpp"
-                                                : "seconds";
-}
-
 }  // namespace
 
 std::string hashBytes(const void* bytes, size_t size) {
@@ -110,20 +105,16 @@ std::string referenceKeyText(const std::vector<SceneFile>& files, const std::str
     std::ostringstream t;
     t << "format=" << kReferenceFormat << "\n"
       << "algorithm=" << algorithm << "\n"
-      << "width=" << s.width << "\nheight=" << s.height << "\n"
-      << "camera=" << s.cameraName << "\n"
-      << "budget_kind=" << budgetKindName(s.budgetKind) << "\nbudget=" << number(s.budget) << "\n"
-      << "seed=" << s.seed << "\nmax_depth=" << s.maxDepth << "\n"
-      << "k=" << s.partitions << "\ny=" << s.guideCandidates << "\n"
-      << "radius=" << number(s.guideRadius) << "\nepsilon=" << number(s.guideEpsilon) << "\n"
-      << "layers=" << s.maxTypeLayers << "\n";
-    if (s.bootstrapSamples > 0) t << "bootstrap=" << s.bootstrapSamples << "\n";
-    if (s.prepass != RenderSettings{}.prepass) t << "prepass=" << s.prepass << "\n";
+      << "budget_kind=" << budgetKindName(s.budgetKind) << "\nbudget=" << number(s.budget) << "\n";
+    // Every declared parameter that changes the image, defaults filled in; the environment
+    // file by its bytes (below), the preview interval not at all.
+    for (const JobParameter& p : jobParameters(registeredAlgorithm(algorithm), s)) {
+        const std::string& name = p.spec->name;
+        if (name == "environment" || name == "preview_interval") continue;
+        if (std::holds_alternative<std::monostate>(p.value)) continue;
+        t << name << "=" << formatParameter(*p.spec, p.value) << "\n";
+    }
     const EnvironmentSettings& env = s.environment;
-    if (env.hasColor)
-        t << "environment_color=" << number(env.color[0]) << "," << number(env.color[1]) << ","
-          << number(env.color[2]) << "\n";
-    if (env.enabled()) t << "environment_rotation=" << number(env.rotationDegrees) << "\n";
     if (!env.file.empty()) {
         // The environment image by its bytes, as the scene's files.
         std::vector<uint8_t> bytes;

@@ -15,7 +15,7 @@ namespace partita::eval {
 
 /// Bumped whenever the way a reference is made changes (the half split, the seeds of the
 /// halves), which invalidates every cached reference.
-inline constexpr int kReferenceFormat = 1;
+inline constexpr int kReferenceFormat = 2;  // 2: every declared parameter by its name
 
 /// The seed of half `half` (0 or 1) of a reference asked for with `seed`. Far from the small
 /// seeds that measured renders use (partita-eval quality: 1, 2, ...), so that no reference half

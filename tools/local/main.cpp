@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
     render->add_option("--plan", shard.plan, "render one shard of this plan (partita-local plan)");
     render->add_option("--shard", shard.shard,
                        "the shard index (default: $SLURM_ARRAY_TASK_ID or $JOB_COMPLETION_INDEX)");
-    addRenderOptions(*render, options);
+    addRenderOptions(*render, options, algorithmInArguments(argc, argv));
 
     PlanCommand plan;
     auto* planApp = app.add_subcommand(
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
     planApp->add_option("--shards", plan.shards, "number of shards")->required();
     planApp->add_option("--out", plan.out, "the plan file")->required();
     planApp->add_flag("--quiet", quiet, "no progress bar");
-    addRenderOptions(*planApp, options);
+    addRenderOptions(*planApp, options, algorithmInArguments(argc, argv));
 
     MergeCommand merge;
     auto* mergeApp = app.add_subcommand(

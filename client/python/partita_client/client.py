@@ -12,27 +12,27 @@ import numpy as np
 
 from . import exr
 from ._stubs import pb2, pb2_grpc
+from .algorithms import Algorithm, value_to_proto
 from .errors import PartitaError, from_rpc_error
 from .models import Job, PreviewEvent, StateEvent, event_from_proto, TERMINAL_STATES
 from .scene import add_environment_image, scene_source
 
-# submit() keyword -> how it goes into the JobSpec. Names with '-' (as on the command line) are
-# accepted too: max-depth == max_depth.
-_INT_FIELDS = ("width", "height", "k", "y", "max_depth", "max_type_layers", "bootstrap_samples")
-_FLOAT_FIELDS = ("radius", "epsilon", "preview_interval_seconds", "environment_rotation_degrees")
+# submit() keywords that are not declared parameters: the job's algorithm, budget, queue place,
+# label and an environment image file (uploaded with the scene). Every other keyword is a
+# declared parameter of the algorithm (Client.algorithms()), sent by name in JobSpec.parameters;
+# '-' may stand for '_' (max-depth == max_depth).
 _BUDGETS = {
     "spp": pb2.BUDGET_KIND_SAMPLES_PER_PIXEL,
     "mpp": pb2.BUDGET_KIND_MUTATIONS_PER_PIXEL,
     "seconds": pb2.BUDGET_KIND_SECONDS,
 }
-_ALIASES = {"preview_interval": "preview_interval_seconds", "layers": "max_type_layers",
-            "environment_rotation": "environment_rotation_degrees", "bootstrap": "bootstrap_samples"}
-JOB_PARAMETERS = tuple(sorted(
-    ("algorithm", "camera", "seed", "priority", "label", "prepass", "environment",
-     "environment_color") +
-    _INT_FIELDS +
-    _FLOAT_FIELDS +
-    tuple(_BUDGETS) + tuple(_ALIASES)))
+_JOB_FIELDS = ("algorithm", "priority", "label", "environment")
+# The names of the typed JobSpec fields, which older code passed: each is the parameter named
+# on the right.
+_OLD_NAMES = {"preview_interval_seconds": "preview_interval", "max_type_layers": "layers",
+              "environment_rotation_degrees": "environment_rotation",
+              "bootstrap_samples": "bootstrap"}
+JOB_PARAMETERS = tuple(sorted(_JOB_FIELDS + tuple(_BUDGETS)))
 
 _RESULT_KINDS = {
     "exr": pb2.RESULT_KIND_EXR,
@@ -49,13 +49,19 @@ def _loopback_for_localhost(address: str) -> str:
     return "127.0.0.1:" + address[len(prefix):] if address.startswith(prefix) else address
 
 
+def parameter_name(name: str) -> str:
+    """The declared name a keyword stands for: '-' read as '_', older names mapped."""
+    name = name.replace("-", "_")
+    return _OLD_NAMES.get(name, name)
+
+
 def job_spec(scene, **params) -> "pb2.JobSpec":
-    """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job parameters:
-    algorithm, spp | mpp | seconds, width, height, camera, seed, max_depth, k, y, radius,
-    epsilon, prepass ("auto" | "pt" | "bdpt"), bootstrap_samples (alias bootstrap; 0: the
-    algorithm's default), preview_interval, priority, label, max_type_layers, environment (an EXR/HDR image),
-    environment_color (R, G, B), environment_rotation. Unset ones take the server's
-    defaults. Raises ValueError on an unknown or ill-typed parameter."""
+    """The JobSpec for `scene` (a .gltf/.glb path or a scene name) and job keywords: algorithm,
+    spp | mpp | seconds, priority, label, environment (an EXR/HDR image file), and any declared
+    parameter of the algorithm by name (width, height, seed, max_depth, k, y, radius, epsilon,
+    prepass, bootstrap, environment_color=(R, G, B), ...: Client.algorithms() lists them with
+    their types, defaults and ranges). Unset ones take the server's defaults; the server checks
+    every value. Raises ValueError on a value no parameter can take or two budgets."""
     spec = pb2.JobSpec()
     spec.scene.CopyFrom(scene_source(scene))
     if spec.scene.WhichOneof("source") != "scene_name":
@@ -63,36 +69,24 @@ def job_spec(scene, **params) -> "pb2.JobSpec":
     spec.algorithm = "pt"
     budgets = []
     for raw_name, value in params.items():
-        name = _ALIASES.get(raw_name.replace("-", "_"), raw_name.replace("-", "_"))
+        name = parameter_name(raw_name)
         if value is None:
             continue
         if name in _BUDGETS:
             budgets.append(name)
             spec.budget.kind = _BUDGETS[name]
             spec.budget.amount = float(value)
-        elif name in _INT_FIELDS:
-            if isinstance(value, bool) or int(value) != value:
-                raise ValueError(f"{raw_name} must be a whole number, got {value!r}")
-            setattr(spec, name, int(value))
-        elif name in _FLOAT_FIELDS:
-            setattr(spec, name, float(value))
-        elif name == "seed":
-            if int(value) != value or value < 0:
-                raise ValueError(f"seed must be a non-negative whole number, got {value!r}")
-            spec.seed = int(value)
         elif name == "priority":
             spec.priority = int(value)
         elif name == "environment":
             add_environment_image(spec, value)
-        elif name == "environment_color":
-            color = [float(c) for c in value]
-            if len(color) != 3:
-                raise ValueError(f"environment_color needs 3 values (R, G, B), got {value!r}")
-            spec.environment_color.extend(color)
-        elif name in ("algorithm", "camera", "label", "prepass"):
+        elif name in ("algorithm", "label"):
             setattr(spec, name, str(value))
         else:
-            raise ValueError(f"unknown job parameter '{raw_name}' (known: {', '.join(JOB_PARAMETERS)})")
+            try:
+                value_to_proto(value, spec.parameters[name])
+            except ValueError as e:
+                raise ValueError(f"{raw_name}: {e}") from None
     if len(budgets) > 1:
         raise ValueError(f"give one budget, not {' and '.join(budgets)}")
     return spec
@@ -152,9 +146,25 @@ class Client:
     # --- jobs -----------------------------------------------------------------------------
     def submit(self, scene: Union[str, os.PathLike], **params) -> str:
         """Submits a job; returns its id. `scene`: a .gltf/.glb path (uploaded with its
-        resources) or a scene name of the server's scene root. `params`: see job_spec()."""
+        resources) or a scene name of the server's scene root. `params`: see job_spec(). A
+        name the algorithm does not declare is refused before anything is sent."""
         spec = job_spec(scene, **params)
+        self.check_parameters(spec.algorithm, spec.parameters.keys())
         return self._call("SubmitJob", pb2.SubmitJobRequest(spec=spec), "submit job").job_id
+
+    def check_parameters(self, algorithm: str, names) -> None:
+        """Raises ValueError naming the first of `names` that `algorithm` does not declare on
+        this server (nothing to check when the server does not say)."""
+        offered = self.algorithms()
+        if algorithm not in offered:
+            return  # the server's own answer names the algorithms it has
+        declared = offered[algorithm].parameters
+        if not declared:
+            return
+        for name in names:
+            if parameter_name(name) not in declared:
+                raise ValueError(f"unknown parameter '{name}' for {algorithm} (its parameters: "
+                                 f"{', '.join(declared)})")
 
     def job(self, job_id: str) -> Job:
         return Job.from_proto(self._call("GetJob", pb2.GetJobRequest(job_id=job_id),
@@ -181,8 +191,14 @@ class Client:
         """The server's ServerInfo message: version, threads, limits, algorithms."""
         return self._call("GetServerInfo", pb2.ServerInfoRequest(), "get server info")
 
-    def algorithms(self) -> List[str]:
-        return [a.name for a in self.server_info().algorithms]
+    def algorithms(self) -> Dict[str, Algorithm]:
+        """The server's algorithms by name, each with its budgets and declared parameters
+        (type, default, range, help): `client.algorithms()["guided"].parameters["radius"]`.
+        Read once per client."""
+        if getattr(self, "_algorithms", None) is None:
+            self._algorithms = {a.name: Algorithm.from_proto(a)
+                                for a in self.server_info().algorithms}
+        return self._algorithms
 
     def algorithm_parameters(self, algorithm: str) -> List[str]:
         """The parameters (CLI spelling: "spp", "max-depth", "y", ...) that change what
@@ -291,4 +307,4 @@ class Client:
         return self.result(self.submit(scene, **params))
 
 
-__all__ = ["Client", "job_spec", "JOB_PARAMETERS", "TERMINAL_STATES", "PreviewEvent", "StateEvent"]
+__all__ = ["Client", "job_spec", "parameter_name", "JOB_PARAMETERS", "TERMINAL_STATES", "PreviewEvent", "StateEvent"]

@@ -156,7 +156,7 @@ class ClientTest(unittest.TestCase):
             self.assertGreater(part.gamma, 0.0, part)
         meta = self.client.metadata(job)
         self.assertEqual(meta["parameters"]["prepass"], "pt")
-        self.assertEqual(meta["parameters"]["bootstrap_samples"], 4000)
+        self.assertEqual(meta["parameters"]["bootstrap"], 4000)
         self.assertEqual(meta["stats"]["partition_0_p"], last.partitions[0].p)
         layers = self.client.result(job)
         self.assertEqual([n for n in layers if n != "combined"],
@@ -165,13 +165,14 @@ class ClientTest(unittest.TestCase):
             self.client.submit("cornell", algorithm="partitioned", mpp=4, width=16, height=12,
                                prepass="magic")
         self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
-        self.assertIn("auto, pt, bdpt", str(ctx.exception))
+        self.assertIn("prepass 'magic' is not one of auto | pt | bdpt", str(ctx.exception))
 
     def test_environment_color_goes_into_the_spec(self):
         from partita_client.client import job_spec
         spec = job_spec("cornell", environment_color=(0.5, 1, 2), environment_rotation=30)
-        self.assertEqual(list(spec.environment_color), [0.5, 1.0, 2.0])
-        self.assertEqual(spec.environment_rotation_degrees, 30.0)
+        rgb = spec.parameters["environment_color"].rgb_value
+        self.assertEqual([rgb.r, rgb.g, rgb.b], [0.5, 1.0, 2.0])
+        self.assertEqual(spec.parameters["environment_rotation"].int_value, 30)
         with self.assertRaises(ValueError):
             job_spec("cornell", environment_color=(1, 1))
         job = self.client.submit("cornell", environment_color=(1, 1, 1), **TINY)
@@ -181,6 +182,39 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(spec.environment_file, "partita-environment/cornell.gltf")
         self.assertEqual(spec.scene.gltf.resources[-1].uri, spec.environment_file)
         self.assertEqual(job_spec("cornell", environment="sky.hdr").environment_file, "sky.hdr")
+
+    def test_algorithms_declare_their_parameters(self):
+        algorithms = self.client.algorithms()
+        self.assertEqual(set(algorithms), {"pt", "bdpt", "mlt", "partitioned", "guided"})
+        guided = algorithms["guided"]
+        self.assertEqual(guided.budgets, ("mpp", "seconds"))
+        radius = guided.parameters["radius"]
+        self.assertEqual((radius.type, radius.default, radius.min, radius.max, radius.min_exclusive,
+                          radius.unit), ("real", 20.0, 0.0, 4096.0, True, "pixels"))
+        self.assertEqual(guided.parameters["prepass"].choices, ("auto", "pt", "bdpt"))
+        self.assertTrue(guided.parameters["width"].shared)
+        self.assertEqual([p.name for p in guided.own_parameters()],
+                         ["k", "prepass", "bootstrap", "chains", "y", "radius", "epsilon"])
+        self.assertEqual(algorithms["pt"].own_parameters(), [])
+
+    def test_submit_checks_parameter_names_before_sending(self):
+        with self.assertRaises(ValueError) as ctx:
+            self.client.submit("cornell", algorithm="guided", mpp=1, radiuss=3, width=32, height=24)
+        self.assertIn("unknown parameter 'radiuss' for guided", str(ctx.exception))
+        with self.assertRaises(ValueError):
+            self.client.submit("cornell", radius=3, **TINY)  # pt has no radius
+        self.assertEqual(self.client.jobs(label="py-names"), [])
+        # A value out of range is the server's INVALID_ARGUMENT, naming the parameter.
+        with self.assertRaises(PartitaError) as ctx:
+            self.client.submit("cornell", algorithm="guided", mpp=1, radius=0, label="py-names",
+                               width=32, height=24)
+        self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
+        self.assertIn("radius = 0 is outside (0, 4096] pixels", str(ctx.exception))
+        # Older keyword names still reach their parameters.
+        job = self.client.submit("cornell", algorithm="mlt", mpp=1, bootstrap_samples=2000,
+                                 label="py-names", width=32, height=24)
+        self.assertEqual(self.client.wait(job).state, "done")
+        self.assertEqual(self.client.metadata(job)["parameters"]["bootstrap"], 2000)
 
     def test_cancel(self):
         job = self.client.submit("cornell", width=32, height=24, seconds=60, label="py-cancel")

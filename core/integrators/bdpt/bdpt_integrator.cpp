@@ -193,7 +193,8 @@ void registerBdpt() {
         {"bdpt",
          "bidirectional path tracer: every (s, t) strategy including light tracing, MIS "
          "(power heuristic); per-type layers",
-         BudgetKind::SamplesPerPixel, [] { return std::make_unique<BdptAlgorithm>(); }});
+         BudgetKind::SamplesPerPixel,
+         [](const ParameterValues&) { return std::make_unique<BdptAlgorithm>(); }, /*orthographicCamera=*/true, /*parameters=*/{}});
 }
 
 }  // namespace partita

@@ -23,10 +23,10 @@ struct Guides {
     std::vector<PixelOffset> delta;
 
     /// perPartition and delta, from gbuffer and masks.
-    void link(const RenderSettings& rs, size_t partitions) {
+    void link(const GuidedSettings& settings, size_t partitions) {
         perPartition.clear();
         for (size_t g = 0; g < partitions; ++g) perPartition.emplace_back(gbuffer, masks, g);
-        delta = guideOffsets(rs.guideCandidates, rs.guideRadius);
+        delta = guideOffsets(settings.y, settings.radius);
     }
 };
 
@@ -34,7 +34,7 @@ namespace {
 
 std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResult& prepass,
                                     const std::vector<Partition>& partitions,
-                                    const DenoiseSettings& denoise, RenderStats& stats) {
+                                    const GuidedSettings& settings, RenderStats& stats) {
     const RenderSettings& rs = ctx.settings;
     auto start = Clock::now();
     // Its own phase, after "prepass" (the job stays in PREPASS): G-buffer, denoise, thresholds.
@@ -47,21 +47,21 @@ std::shared_ptr<Guides> buildGuides(const RenderContext& ctx, const PrepassResul
         partitionPrepassImages(prepass, partitions, rs.width, rs.height);
     ctx.throwIfCancelled();
     std::vector<std::vector<float>> denoised =
-        denoisePartitions(guides->gbuffer, images, denoise, &ctx.pool);
+        denoisePartitions(guides->gbuffer, images, settings.denoise, &ctx.pool);
     progress.advance(1);
     double denoiseSeconds = secondsSince(start) - gbufferSeconds;
     for (std::vector<float>& d : denoised) d = relativeToMean(d);
-    guides->masks = SupportMasks(denoised, rs.width, rs.height, rs.guideEpsilon);
-    guides->link(rs, partitions.size());
+    guides->masks = SupportMasks(denoised, rs.width, rs.height, settings.epsilon);
+    guides->link(settings, partitions.size());
     for (size_t g = 0; g < partitions.size(); ++g)
         stats.values["partition_" + std::to_string(g) + "_guide_support"] =
             guides->perPartition[g].supportFraction();
     size_t guideBytes = guides->gbuffer.bytes() + guides->masks.bytes();
     progress.advance(1);
     progress.flush();
-    stats.values["guide_candidates"] = double(rs.guideCandidates);
-    stats.values["guide_radius"] = double(rs.guideRadius);
-    stats.values["guide_epsilon"] = double(rs.guideEpsilon);
+    stats.values["guide_candidates"] = double(settings.y);
+    stats.values["guide_radius"] = double(settings.radius);
+    stats.values["guide_epsilon"] = double(settings.epsilon);
     stats.values["gbuffer_seconds"] = gbufferSeconds;
     stats.values["denoise_seconds"] = denoiseSeconds;
     stats.values["guide_seconds"] = secondsSince(start);
@@ -75,7 +75,7 @@ std::vector<uint8_t> GuidedMutations::prepare(const RenderContext& ctx,
                                               const PrepassResult& prepass,
                                               const std::vector<Partition>& partitions,
                                               RenderStats& stats) {
-    prepared_ = buildGuides(ctx, prepass, partitions, settings_.denoise, stats);
+    prepared_ = buildGuides(ctx, prepass, partitions, settings_, stats);
     return prepared_->masks.serialize();
 }
 
@@ -91,7 +91,7 @@ ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
             guides->masks.height() != ctx.settings.height)
             throw std::invalid_argument("guided plan: the support masks do not fit the job");
         guides->gbuffer = buildGBuffer(ctx);
-        guides->link(ctx.settings, partitions.size());
+        guides->link(settings_, partitions.size());
     }
     return [this, &ctx, guides, partitions](uint32_t group) {
         VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partitions[group]);
@@ -115,14 +115,13 @@ RenderResult GuidedAlgorithm::render(const RenderContext& ctx) {
 }
 
 void registerGuided() {
-    AlgorithmRegistry::instance().add(
-        {"guided",
-         "guided image sampling (paper Sec. 5): the partitioned chains with the lens "
-         "perturbation replaced by a move on the image plane drawn from |Y'| candidate pixels "
-         "within R in proportion to a G-buffer estimate S' and a denoised pre-pass visibility "
-         "V'; one layer per partition",
-         BudgetKind::MutationsPerPixel, [] { return std::make_unique<GuidedAlgorithm>(); },
-         /*orthographicCamera=*/false});
+    AlgorithmRegistry::instance().add(algorithmEntry<GuidedAlgorithm>(
+        "guided",
+        "guided image sampling (paper Sec. 5): the partitioned chains with the lens "
+        "perturbation replaced by a move on the image plane drawn from |Y'| candidate pixels "
+        "within R in proportion to a G-buffer estimate S' and a denoised pre-pass visibility "
+        "V'; one layer per partition",
+        BudgetKind::MutationsPerPixel, guidedParameters(), /*orthographicCamera=*/false));
 }
 
 }  // namespace partita

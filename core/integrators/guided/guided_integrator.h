@@ -11,6 +11,7 @@
 
 #include "algorithm.h"
 #include "integrators/guided/guided_settings.h"
+#include "partition/partitioned_pipeline.h"
 
 namespace partita {
 

@@ -89,8 +89,7 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     uint64_t mutations = timed ? UINT64_MAX / 4 : uint64_t(rs.budget * pixels);
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
-    uint64_t bootstrapSamples =
-        rs.bootstrapSamples > 0 ? rs.bootstrapSamples : settings.bootstrapSamples;
+    uint64_t bootstrapSamples = settings.bootstrapSamples;
     MltStart out;
     out.bootstrap = runBootstrap(ctx, sampler, bootstrapSamples);
     out.bootstrapSeconds = secondsSince(start);
@@ -139,12 +138,11 @@ Shardable* MltAlgorithm::shardable() {
 }
 
 void registerMlt() {
-    AlgorithmRegistry::instance().add(
-        {"mlt",
-         "path-space Metropolis light transport (Veach & Guibas 1997): BDPT bootstrap, "
-         "bidirectional, lens, caustic and multi-chain mutations; per-type layers",
-         BudgetKind::MutationsPerPixel, [] { return std::make_unique<MltAlgorithm>(); },
-         /*orthographicCamera=*/false});
+    AlgorithmRegistry::instance().add(algorithmEntry<MltAlgorithm>(
+        "mlt",
+        "path-space Metropolis light transport (Veach & Guibas 1997): BDPT bootstrap, "
+        "bidirectional, lens, caustic and multi-chain mutations; per-type layers",
+        BudgetKind::MutationsPerPixel, mltParameters(), /*orthographicCamera=*/false));
 }
 
 }  // namespace partita

@@ -25,13 +25,12 @@ RenderResult PartitionedAlgorithm::render(const RenderContext& ctx) {
 }
 
 void registerPartitioned() {
-    AlgorithmRegistry::instance().add(
-        {"partitioned",
-         "path-space partitioning (paper Sec. 4): a pre-pass ranks the path types, the top K and "
-         "their complement get their own MLT chains and normalising constants; one layer per "
-         "partition",
-         BudgetKind::MutationsPerPixel, [] { return std::make_unique<PartitionedAlgorithm>(); },
-         /*orthographicCamera=*/false});
+    AlgorithmRegistry::instance().add(algorithmEntry<PartitionedAlgorithm>(
+        "partitioned",
+        "path-space partitioning (paper Sec. 4): a pre-pass ranks the path types, the top K and "
+        "their complement get their own MLT chains and normalising constants; one layer per "
+        "partition",
+        BudgetKind::MutationsPerPixel, partitionedParameters(), /*orthographicCamera=*/false));
 }
 
 }  // namespace partita

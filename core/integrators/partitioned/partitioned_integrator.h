@@ -12,6 +12,7 @@
 
 #include "algorithm.h"
 #include "integrators/partitioned/partitioned_settings.h"
+#include "partition/partitioned_pipeline.h"
 
 namespace partita {
 

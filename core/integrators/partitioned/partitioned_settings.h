@@ -1,10 +1,11 @@
-// The settings of `partitioned` with their defaults (paper Sec. 4; DESIGN.md). K, the pre-pass
-// estimator and the pre-pass size come from the job (RenderSettings: partitions, prepass,
-// bootstrapSamples).
+// The settings of `partitioned` with their defaults (paper Sec. 4; DESIGN.md), and the
+// parameters a job sets them with (partitionedParameters(): the pipeline's k, prepass,
+// bootstrap, chains).
 #pragma once
 
 #include "mcmc/veach_mutations.h"
-#include "partition/partitioned_pipeline.h"
+#include "params/settings_table.h"
+#include "partition/pipeline_settings.h"
 
 namespace partita {
 
@@ -13,5 +14,7 @@ struct PartitionedSettings : PartitionPipelineSettings {
     /// mutations that keep the path's length (a different length is another type).
     VeachMutationSettings mutations;
 };
+
+const SettingsTable<PartitionedSettings>& partitionedParameters();
 
 }  // namespace partita

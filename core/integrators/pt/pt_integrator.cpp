@@ -125,11 +125,13 @@ Shardable* PathTracerAlgorithm::shardable() {
 }
 
 void registerPathTracer() {
+    // No parameters of its own: the shared ones (render_settings.h) are all it reads.
     AlgorithmRegistry::instance().add(
         {"pt",
          "unidirectional path tracer with next-event estimation and MIS "
          "(the reference; per-type layers)",
-         BudgetKind::SamplesPerPixel, [] { return std::make_unique<PathTracerAlgorithm>(); }});
+         BudgetKind::SamplesPerPixel,
+         [](const ParameterValues&) { return std::make_unique<PathTracerAlgorithm>(); }, /*orthographicCamera=*/true, /*parameters=*/{}});
 }
 
 }  // namespace partita

@@ -1,0 +1,29 @@
+#include "integrators/guided/guided_settings.h"
+
+namespace partita {
+
+const SettingsTable<GuidedSettings>& guidedParameters() {
+    static const SettingsTable<GuidedSettings> table = [] {
+        SettingsTable<GuidedSettings> t;
+        addPipelineParameters(t);
+        t.add(ParameterSpec("y", "|Y'|: candidate pixels of each guided step (paper Sec. 5)")
+                  .withUnit("pixels")
+                  .within(1, 4096),
+              &GuidedSettings::y);
+        t.add(ParameterSpec("radius", "R: radius of the candidates' disk (paper Eq. 18)")
+                  .withUnit("pixels")
+                  .above(0)
+                  .atMost(4096),
+              &GuidedSettings::radius);
+        t.add(
+            ParameterSpec("epsilon",
+                          "epsilon of Eq. 17: V' below it, relative to the partition image's mean")
+                .above(0)
+                .atMost(1),
+            &GuidedSettings::epsilon);
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace partita

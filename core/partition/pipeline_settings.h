@@ -1,0 +1,47 @@
+// The settings that `partitioned` and `guided` share (their pipeline, partitioned_pipeline.h),
+// with their defaults, and the parameters a job sets them with: k, prepass, bootstrap, chains.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "mcmc/startup_parameters.h"
+#include "params/settings_table.h"
+
+namespace partita {
+
+struct PartitionPipelineSettings {
+    int k = 10;  // K: the top-K path types become partitions, plus the complement (paper Sec. 4)
+    /// The pre-pass estimator: "pt" (the paper's), "bdpt" or "auto" (bdpt when the scene has a
+    /// delta light, else pt). Default bdpt, the estimator of mlt's start-up: at the same 100000
+    /// samples its b_i are less noisy than the path tracer's (the sum of b_i spreads 3-4% over
+    /// seeds with pt), and partitioned's RMSE at 32 mpp went from 0.99-1.33x mlt's to
+    /// 0.84-0.98x on every shipped scene (bench/README.md, "partitioned against mlt and pt").
+    std::string prepass = "bdpt";
+    uint64_t bootstrapSamples = 100000;  // the pre-pass's: the same start-up budget as mlt's
+    uint64_t burnIn = 1024;              // per chain, before its first splat (the paper's)
+    int chains = 256;                    // over all partitions, in proportion to P(i)
+    uint64_t minMutationsPerChain = 32;
+    uint64_t roundMutations = 1024;
+    uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
+};
+
+/// Declares the pipeline's parameters in the table of S (PartitionedSettings, GuidedSettings).
+template <class S>
+void addPipelineParameters(SettingsTable<S>& t) {
+    t.add(ParameterSpec("k",
+                        "K: path types that become partitions of their own, besides the "
+                        "complement")
+              .withUnit("partitions")
+              .within(0, 64),
+          &PartitionPipelineSettings::k);
+    t.add(ParameterSpec("prepass",
+                        "pre-pass estimator (auto: bdpt when the scene has a delta light, else pt)")
+              .withChoices({"auto", "pt", "bdpt"}),
+          &PartitionPipelineSettings::prepass);
+    t.add(bootstrapParameter("pre-pass samples: the path types, P(i), b_i and the chains' starts"),
+          &PartitionPipelineSettings::bootstrapSamples);
+    t.add(chainsParameter(), &PartitionPipelineSettings::chains);
+}
+
+}  // namespace partita
