@@ -4,7 +4,7 @@
 # share), then
 #  1. `quality --algorithms mlt,partitioned,guided --mpp MPP`: equal mutations per pixel, with the
 #     same start-up budget for all three (--bootstrap BOOTSTRAP: mlt's BDPT bootstrap samples and
-#     the partitioned methods' pre-pass samples are all RenderSettings::bootstrapSamples; the
+#     the partitioned methods' pre-pass samples are all the parameter `bootstrap`; the
 #     pre-pass of partitioned and guided is BDPT, the default, so all three start from the same
 #     estimator); mlt and partitioned are also measured on partitioned's partitions (guided's
 #     are the same: same seed, same pre-pass);

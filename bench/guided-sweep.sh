@@ -1,6 +1,6 @@
 #!/bin/sh
 # guided: the |Y'| x R study (issue #13 item 6, the paper's Figure 8) and the epsilon sweep that
-# chose RenderSettings' guideRadius and guideEpsilon (docs/guided-sweep.md). Everything renders
+# chose guided's defaults of radius and epsilon (GuidedSettings; docs/guided-sweep.md). Everything renders
 # through a private partitad started by client/python/sweep.py (one job at a time); the
 # references are BDPT renders by `partita-eval reference` from the shared cache
 # (build-bench/references/, as partitioned-study.sh makes them).

@@ -5,7 +5,7 @@
 #   portable  the compiler's default (x86-64 baseline): binaries that run on any x86-64.
 #             The Docker image is built this way.
 #   <level>   any -march value, e.g. x86-64-v3 or native.
-# The path tracer is about 4% faster with x86-64-v3 (bench/README.md); results agree within
+# The path tracer is about 4% faster with x86-64-v3 (docs/eval-throughput.md); results agree within
 # the statistical tests either way (FMA contraction changes the last bits of some sums).
 set(PARTITA_ARCH "auto" CACHE STRING "Instruction set: auto, portable or a -march value")
 

@@ -43,7 +43,7 @@ int filmCount(const std::string& algorithm, const RenderSettings& s) {
 }
 
 /// guided's guides (core/guide/): what it keeps, the G-buffer (40 B a pixel) and one bit a
-/// pixel and partition, and what its denoiser holds for a moment besides (bench/README.md,
+/// pixel and partition, and what its denoiser holds for a moment besides (docs/guide-buffers.md,
 /// "Guide buffers"): per partition its pre-pass image, its interleaved input and output and
 /// its denoised image (4 B each a pixel), and the tap guides (32 B a pixel).
 double guideBytes(int partitions, double pixels) {

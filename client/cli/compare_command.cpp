@@ -1,13 +1,12 @@
 // partita compare IMAGE... --reference REF.exr [--layers]
-// RMSE and relMSE (image_metrics.h) of each image's combined layer against the reference's,
+// RMSE and relMSE (core/image_metrics.h) of each image's combined layer against the reference's,
 // and with --layers also of every layer the image and the reference have in common. Needs no
 // server.
 #include <cstdio>
 #include <memory>
 
 #include "cli/commands.h"
-#include "cli/exr_reader.h"
-#include "cli/image_metrics.h"
+#include "cli/image_files.h"
 #include "cli/table.h"
 
 namespace partita::cli {
@@ -21,14 +20,14 @@ struct CompareArgs {
 };
 
 int runCompare(const CompareArgs& a) {
-    const LayeredImage reference = readExrFile(a.reference);
+    const LayeredImage reference = readResultExr(a.reference);
     Table table(a.layers ? std::vector<std::string>{"image", "layer", "rmse", "relmse"}
                          : std::vector<std::string>{"image", "rmse", "relmse"});
     for (const auto& path : a.images) {
-        const LayeredImage image = readExrFile(path);
+        const LayeredImage image = readResultExr(path);
         ErrorMetrics m;
         try {
-            m = compareImages(image.combined, reference.combined);
+            m = imageError(image.combined, reference.combined);
         } catch (const CliError& e) {
             throw CliError("'" + path + "': " + e.what());
         }
@@ -40,7 +39,7 @@ int runCompare(const CompareArgs& a) {
         for (const auto& layer : image.layers) {
             const Image* ref = reference.layer(layer.name);
             if (!ref) continue;
-            ErrorMetrics lm = compareImages(layer.image, *ref);
+            ErrorMetrics lm = imageError(layer.image, *ref);
             table.addRow({path, layer.name, formatNumber(lm.rmse), formatNumber(lm.relMse)});
         }
     }

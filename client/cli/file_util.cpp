@@ -6,39 +6,22 @@
 #include <system_error>
 
 #include "cli/errors.h"
+#include "file_io.h"
 
 namespace partita::cli {
 
 namespace fs = std::filesystem;
 
 std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot open '" + path.string() + "'");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw std::runtime_error("cannot read '" + path.string() + "'");
-    return ss.str();
+    std::vector<uint8_t> bytes = readFileBytes(path);
+    return {bytes.begin(), bytes.end()};
 }
 
 void writeFileAtomically(const fs::path& path, std::string_view data) {
-    fs::path tmp = path;
-    tmp += ".part";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw CliError("cannot write '" + path.string() + "'");
-        out.write(data.data(), std::streamsize(data.size()));
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw CliError("cannot write '" + path.string() + "' (disk full?)");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw CliError("cannot write '" + path.string() + "': " + ec.message());
+    try {
+        writeFileAtomic(path, {reinterpret_cast<const uint8_t*>(data.data()), data.size()});
+    } catch (const std::runtime_error& e) {
+        throw CliError(e.what());
     }
 }
 

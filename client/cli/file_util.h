@@ -10,8 +10,8 @@ namespace partita::cli {
 /// The whole file; throws std::runtime_error naming it.
 std::string readFile(const std::filesystem::path& path);
 
-/// Writes `data` to "<path>.part" and renames it over `path`, so readers never see a half
-/// written file. Throws CliError naming the file.
+/// core's writeFileAtomic (file_io.h): readers never see a half written file. Throws CliError
+/// naming the file.
 void writeFileAtomically(const std::filesystem::path& path, std::string_view data);
 
 /// `path` with its extension replaced ("out.exr" -> "out.png").

@@ -3,7 +3,7 @@
 // Renders the grid over one or two job parameters (sweep_axis.h): submits every job, waits for
 // all, downloads each result as DIR/<name1>=<v1>_<name2>=<v2>.exr (+ .png, .json), and prints
 // a table (also written to DIR/sweep.csv) with the parameters, RMSE and relMSE of the combined
-// image against --reference (image_metrics.h) and the render seconds.
+// image against --reference (core/image_metrics.h) and the render seconds.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -11,9 +11,8 @@
 #include <set>
 
 #include "cli/commands.h"
-#include "cli/exr_reader.h"
 #include "cli/file_util.h"
-#include "cli/image_metrics.h"
+#include "cli/image_files.h"
 #include "cli/job_format.h"
 #include "cli/job_spec.h"
 #include "cli/results.h"
@@ -112,7 +111,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     if (base.label().empty()) base.set_label("sweep:" + sceneStem(scene));
 
     LayeredImage reference;
-    if (!a.reference.empty()) reference = readExrFile(a.reference);
+    if (!a.reference.empty()) reference = readResultExr(a.reference);
     const fs::path outDir =
         a.outDir.empty() ? fs::path("sweep-" + safeFileName(sceneStem(scene))) : fs::path(a.outDir);
     std::error_code ec;
@@ -198,8 +197,7 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
                 // Sizes were checked before submitting; a mismatch here (a server with other
                 // defaults) is an error too, as in `partita compare`.
                 try {
-                    ErrorMetrics m =
-                        compareImages(readExrFile(c.file).combined, reference.combined);
+                    ErrorMetrics m = imageError(readResultExr(c.file).combined, reference.combined);
                     c.rmse = m.rmse;
                     c.relMse = m.relMse;
                 } catch (const CliError& e) {

@@ -34,7 +34,7 @@ class ThreadPool;
 /// the sine of the angle between the tap's offset and p's tangent plane, so it stops at creases
 /// and depth steps on one mesh whatever the scene's units. Defaults set by reasoning (a 90 degree
 /// crease or an albedo step of 0.3 weighs ~e^-9 or less), not by a sweep; the figures in
-/// bench/README.md "Guide buffers" are with these.
+/// docs/guide-buffers.md are with these.
 struct DenoiseSettings {
     int levels = 5;              // a-trous levels: taps 1, 2, 4, ... 2^(levels-1) pixels apart
     float normalSigma = 0.3f;    // weight exp(-|n_p - n_q|^2 / sigma^2)

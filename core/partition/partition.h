@@ -6,7 +6,7 @@
 // a relative standard error above a bound (default 15%) is folded into the complement, and so
 // is one with no half-B path (it could not start a chain): a partition's b_i scales its whole
 // image, so no number of mutations repairs a b_i that is off (measured: rare types with b_i off
-// by 2-16x on pool and bathroom, bench/README.md "partitioned against mlt and pt"). A
+// by 2-16x on pool and bathroom, docs/partitioned-study.md). A
 // complement with nothing in half B is dropped (so is everything when the image is black).
 #pragma once
 

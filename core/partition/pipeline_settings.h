@@ -16,7 +16,7 @@ struct PartitionPipelineSettings {
     /// delta light, else pt). Default bdpt, the estimator of mlt's start-up: at the same 100000
     /// samples its b_i are less noisy than the path tracer's (the sum of b_i spreads 3-4% over
     /// seeds with pt), and partitioned's RMSE at 32 mpp went from 0.99-1.33x mlt's to
-    /// 0.84-0.98x on every shipped scene (bench/README.md, "partitioned against mlt and pt").
+    /// 0.84-0.98x on every shipped scene (docs/partitioned-study.md).
     std::string prepass = "bdpt";
     uint64_t bootstrapSamples = 100000;  // the pre-pass's: the same start-up budget as mlt's
     uint64_t burnIn = 1024;              // per chain, before its first splat (the paper's)

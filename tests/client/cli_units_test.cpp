@@ -6,13 +6,13 @@
 
 #include "cli/connection.h"
 #include "cli/errors.h"
-#include "cli/exr_reader.h"
-#include "cli/image_metrics.h"
+#include "cli/image_files.h"
 #include "cli/job_spec.h"
 #include "cli/scene_source.h"
 #include "cli/sweep_axis.h"
 #include "cli/table.h"
 #include "image_io.h"
+#include "image_metrics.h"
 #include "process.h"
 
 namespace partita::cli {
@@ -58,14 +58,23 @@ TEST(SceneSource, PercentDecodingAndClassification) {
     EXPECT_EQ(sceneStem(classifyScene("a/b/pool.gltf")), "pool");
 }
 
-TEST(ImageMetrics, RmseAndRelMse) {
+TEST(ImageFiles, TheCoresReaderAndMetricsWithTheCLIsErrors) {
     Image a(2, 1), b(2, 1);
     b.rgb = {1, 1, 1, 0, 0, 0};
     a.rgb = {1, 1, 1, 0.1f, 0.1f, 0.1f};
-    ErrorMetrics m = compareImages(a, b);
-    EXPECT_NEAR(m.rmse, std::sqrt(0.03 / 6), 1e-7);
-    EXPECT_NEAR(m.relMse, 3 * (0.01 / 0.01) / 6, 1e-6);
-    EXPECT_THROW(compareImages(Image(2, 2), b), CliError);
+    ErrorMetrics m = imageError(a, b);
+    EXPECT_EQ(m.rmse, rmse(a, b));
+    EXPECT_EQ(m.relMse, relMse(a, b));
+    EXPECT_THROW(imageError(Image(2, 2), b), CliError);
+    partita::test::TempDir dir;
+    EXPECT_THROW(readResultExr(dir / "missing.exr"), CliError);
+    std::ofstream(dir / "junk.exr") << "not an exr";
+    try {
+        readResultExr(dir / "junk.exr");
+        ADD_FAILURE() << "junk read as an EXR";
+    } catch (const CliError& e) {
+        EXPECT_NE(std::string(e.what()).find("junk.exr"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Table, CsvQuotes) {
@@ -131,56 +140,6 @@ TEST(Errors, StatusCodesAndOneLine) {
         EXPECT_STREQ(e.what(), "watch job x: no job 'x'");
         EXPECT_EQ(e.code(), "NOT_FOUND");
     }
-}
-
-// The CLI's own EXR reader against the core's (OpenImageIO) on the files partitad writes, and on
-// the other encodings it claims to read (made with oiiotool when it is installed).
-TEST(ExrReader, MatchesCoreReadExr) {
-    namespace fs = std::filesystem;
-    test::TempDir dir;
-    LayeredImage img;
-    const int w = 37, h = 21;  // not a multiple of the 16-line ZIP blocks
-    img.combined = Image(w, h);
-    Image a(w, h), b(w, h);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            a.set(x, y, {0.01f * x, 1e-4f * y * y, x == y ? 100.0f : 0.0f});
-            b.set(x, y, {std::sin(0.3f * x) + 1, 0.5f, 1e-8f * x});
-            img.combined.set(x, y,
-                             {a.at(x, y).x + b.at(x, y).x, a.at(x, y).y + b.at(x, y).y,
-                              a.at(x, y).z + b.at(x, y).z});
-        }
-    img.layers = {{"LSDE", a}, {"LDE", b}};
-    writeExr(dir / "zip.exr", img, {{"note", "hello"}});
-    std::vector<std::string> files = {"zip.exr"};
-    if (std::system("oiiotool --help >/dev/null 2>&1") == 0) {
-        for (const std::string c : {"none", "rle", "zips"}) {
-            const std::string cmd = "oiiotool '" + (dir / "zip.exr").string() + "' --compression " +
-                                    c + " -o '" + (dir / (c + ".exr")).string() + "'";
-            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-            files.push_back(c + ".exr");
-        }
-        const std::string cmd = "oiiotool '" + (dir / "zip.exr").string() + "' -d half -o '" +
-                                (dir / "half.exr").string() + "'";
-        ASSERT_EQ(std::system(cmd.c_str()), 0);
-        files.push_back("half.exr");
-    }
-    for (const auto& f : files) {
-        std::map<std::string, std::string> attrs;
-        LayeredImage mine = readExrFile(dir / f, &attrs), core = readExr(dir / f);
-        ASSERT_EQ(mine.layers.size(), 2u) << f;
-        EXPECT_EQ(mine.layers[0].name, "LSDE") << f;
-        EXPECT_EQ(mine.layers[1].name, "LDE") << f;
-        EXPECT_EQ(mine.combined.width, w);
-        EXPECT_EQ(mine.combined.height, h);
-        EXPECT_EQ(mine.combined.rgb, core.combined.rgb) << f;
-        for (size_t l = 0; l < 2; ++l)
-            EXPECT_EQ(mine.layers[l].image.rgb, core.layer(mine.layers[l].name)->rgb) << f;
-        EXPECT_EQ(attrs["note"], "hello") << f;
-    }
-    EXPECT_THROW(readExrFile(dir / "missing.exr"), CliError);
-    std::ofstream(dir / "junk.exr") << "not an exr";
-    EXPECT_THROW(readExrFile(dir / "junk.exr"), CliError);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Builders for glTF test files: JSON documents with nlohmann::json, their binary data embedded as
 // a base64 data: URI, written as an external .bin, or packed into a GLB; minimal PNG encoding;
-// temporary folders. Test-only; shared by tests/unit/test_gltf_*.cpp.
+// temporary folders. Test-only; shared by tests/unit/gltf/*_test.cpp.
 #pragma once
 
 #include <gtest/gtest.h>

@@ -12,7 +12,7 @@ namespace partita {
 
 struct GuidedSettings : PartitionPipelineSettings {
     // |Y'|, R and epsilon: chosen with the |Y'| x R study and the epsilon sweep of
-    // bench/README.md, "guided: the |Y'| x R study (issue #13 item 6)" (cornell-glass and
+    // docs/guided-sweep.md, "guided: the |Y'| x R study (issue #13 item 6)" (cornell-glass and
     // bathroom, 32 mpp, RMSE ratios paired by seed). |Y'| = 128, the paper's: 32 and 512 tie
     // with it within about two standard errors, 8 loses 1..47% and shows structured noise.
     // R = 20: at 128x96 (12 seeds) R = 5..40 tie within 1.5% and R = 2 loses 5..12%; at 256x192

@@ -1,6 +1,6 @@
 // The environment map: its importance sampling against its own pdf (chi-square), the pdf
 // against the radiance it should follow, and its lookups; and the environment as a light of the
-// path tracer and BDPT (the furnace that checks both is in test_every_algorithm.cpp).
+// path tracer and BDPT (the furnace that checks both is in integrators/every_algorithm_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -601,7 +601,7 @@ TEST(Denoise, ThresholdMatchesTheReferenceSupportOnCornellGlass) {
     EXPECT_GT(pDenoised - pRaw, 3.29 * se) << "raw " << pRaw << ", denoised " << pDenoised;
 }
 
-/// The figures of the report (bench/README.md): cornell-glass at the pre-pass density of the
+/// The figures of the report (docs/guide-buffers.md): cornell-glass at the pre-pass density of the
 /// default 10^5 samples at 1280x720, on a smaller image. Run by hand:
 /// partita-tests --gtest_also_run_disabled_tests --gtest_filter='*ReportThreshold*'
 /// (PARTITA_GUIDE_REPORT="width height samples referenceSpp" overrides the defaults).

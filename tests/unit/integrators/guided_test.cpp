@@ -3,7 +3,7 @@
 // `partitioned`'s, partitioned_helpers.h, tolerances from the spread over independent seeds);
 // the guided perturbation does the lens perturbation's work (it is proposed and accepted); the
 // guides are reported; bad guide parameters are clear errors. The same image for 1 and 2
-// threads is EveryAlgorithm's (test_every_algorithm.cpp), which covers every registered
+// threads is EveryAlgorithm's (integrators/every_algorithm_test.cpp), which covers every registered
 // algorithm.
 #include <gtest/gtest.h>
 

@@ -30,7 +30,7 @@ RenderSettings smallSettings(int spp, uint64_t seed, int maxDepth = 64) {
 }
 
 // The closed-form checks (furnace, maximum depth, point light over a plane) run for every
-// registered algorithm: test_every_algorithm.cpp.
+// registered algorithm: integrators/every_algorithm_test.cpp.
 
 TEST(PathTracer, TypeLayersSumToCombined) {
     RenderScene scene(test::specularBoxScene());
