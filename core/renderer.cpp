@@ -33,8 +33,9 @@ PreparedRender prepareRender(const RenderScene& scene, const std::string& algori
     const AlgorithmRegistry::Entry& entry = registeredAlgorithm(algorithm);
     if (std::string err = validateJob(entry, settings); !err.empty())
         throw std::invalid_argument(err);
-    return {entry.factory(settings.parameters), Camera(resolveCamera(scene.data(), settings.cameraName),
-                                     settings.width, settings.height)};
+    return {
+        entry.factory(settings.parameters),
+        Camera(resolveCamera(scene.data(), settings.cameraName), settings.width, settings.height)};
 }
 
 RenderResult runRender(const RenderScene& scene, const std::string& algorithm,
@@ -68,8 +69,7 @@ std::map<std::string, std::string> describeRender(const std::string& algorithm,
     for (const JobParameter& p : jobParameters(registeredAlgorithm(algorithm), s)) {
         if (std::holds_alternative<std::monostate>(p.value)) continue;
         std::string text = formatParameter(*p.spec, p.value);
-        if (p.spec->name == "environment")
-            text = std::filesystem::path(text).filename().string();
+        if (p.spec->name == "environment") text = std::filesystem::path(text).filename().string();
         if (p.spec->name == "environment" && text.empty()) continue;
         m["partita:" + p.spec->name] = text;
     }

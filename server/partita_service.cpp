@@ -3,8 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include "algorithm.h"
-#include "parameter_wire.h"
 #include "job_runner.h"
+#include "parameter_wire.h"
 #include "result_stream.h"
 #include "text.h"
 #include "validation.h"

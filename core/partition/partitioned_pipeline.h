@@ -25,7 +25,6 @@
 
 namespace partita {
 
-
 /// Each partition's (group's) chain mutations, for one algorithm.
 class PartitionMutations {
   public:

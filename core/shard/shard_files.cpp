@@ -12,7 +12,7 @@ namespace {
 
 constexpr uint32_t kPlanMagic = 0x4e4c5050;    // "PPLN"
 constexpr uint32_t kResultMagic = 0x44485350;  // "PSHD"
-constexpr uint32_t kPlanVersion = 2;  // 2: settings as named parameters
+constexpr uint32_t kPlanVersion = 2;           // 2: settings as named parameters
 constexpr uint32_t kResultVersion = 1;
 
 // The plan's settings: the budget, then every declared parameter of the job (shared and the

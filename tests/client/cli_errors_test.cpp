@@ -37,9 +37,8 @@ TEST(CliErrors, EnvironmentFlags) {
 
 TEST(CliErrors, BadSweepSyntax) {
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "y8,32"}), "bad --sweep 'y8,32'");
-    expectOneLineError(
-        partita({"sweep", "cornell", "--algorithm", "guided", "--sweep", "y=a,b"}),
-        "y must be a whole number, got 'a'");
+    expectOneLineError(partita({"sweep", "cornell", "--algorithm", "guided", "--sweep", "y=a,b"}),
+                       "y must be a whole number, got 'a'");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "colour=1,2"}),
                        "algorithm 'pt' ignores colour");
     expectOneLineError(partita({"sweep", "cornell", "--sweep", "spp=1,", "--sweep", "y=1"}),

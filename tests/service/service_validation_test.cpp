@@ -110,8 +110,7 @@ TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
         {"text that is not a number",
          guided([](pb::JobSpec& s) { (*s.mutable_parameters())["radius"].set_text_value("x"); }),
          Code::INVALID_ARGUMENT, "radius must be a number, got 'x'"},
-        {"a parameter given twice with two values",
-         guided([](pb::JobSpec& s) {
+        {"a parameter given twice with two values", guided([](pb::JobSpec& s) {
              s.set_k(3);
              (*s.mutable_parameters())["k"].set_int_value(4);
          }),

@@ -54,8 +54,9 @@ inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint
     RenderObserver observer;
     RenderContext ctx{scene, camera, st, pool, cancel, observer};
     std::string why;
-    BootstrapSampler sampler(scene, camera, kMaxDepth, seed,
-                             choosePrepassEstimator(scene, PartitionPipelineSettings{}.prepass, why));
+    BootstrapSampler sampler(
+        scene, camera, kMaxDepth, seed,
+        choosePrepassEstimator(scene, PartitionPipelineSettings{}.prepass, why));
     return makePartitions(runPrepass(ctx, sampler, samples), k);
 }
 

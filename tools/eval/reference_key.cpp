@@ -11,8 +11,8 @@
 #include <stdexcept>
 
 #include "gltf/gltf_io.h"
-#include "params/job_parameters.h"
 #include "gltf/resource_resolver.h"
+#include "params/job_parameters.h"
 
 namespace partita::eval {
 

@@ -194,7 +194,8 @@ void registerBdpt() {
          "bidirectional path tracer: every (s, t) strategy including light tracing, MIS "
          "(power heuristic); per-type layers",
          BudgetKind::SamplesPerPixel,
-         [](const ParameterValues&) { return std::make_unique<BdptAlgorithm>(); }, /*orthographicCamera=*/true, /*parameters=*/{}});
+         [](const ParameterValues&) { return std::make_unique<BdptAlgorithm>(); },
+         /*orthographicCamera=*/true, /*parameters=*/{}});
 }
 
 }  // namespace partita

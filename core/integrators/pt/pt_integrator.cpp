@@ -131,7 +131,8 @@ void registerPathTracer() {
          "unidirectional path tracer with next-event estimation and MIS "
          "(the reference; per-type layers)",
          BudgetKind::SamplesPerPixel,
-         [](const ParameterValues&) { return std::make_unique<PathTracerAlgorithm>(); }, /*orthographicCamera=*/true, /*parameters=*/{}});
+         [](const ParameterValues&) { return std::make_unique<PathTracerAlgorithm>(); },
+         /*orthographicCamera=*/true, /*parameters=*/{}});
 }
 
 }  // namespace partita

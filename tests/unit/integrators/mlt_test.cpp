@@ -8,7 +8,6 @@
 #include <chrono>
 #include <thread>
 
-#include "params/job_parameters.h"
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
@@ -16,6 +15,7 @@
 #include "integrators/mlt/mlt_integrator.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_plan.h"
+#include "params/job_parameters.h"
 #include "render_helpers.h"
 #include "renderer.h"
 #include "scene_builders.h"

@@ -7,12 +7,12 @@
 
 #include <chrono>
 
-#include "params/job_parameters.h"
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
 #include "independent_proposal.h"
 #include "integrators/partitioned/partitioned_integrator.h"
+#include "params/job_parameters.h"
 #include "partition/partition.h"
 #include "partition/prepass.h"
 #include "partitioned_helpers.h"

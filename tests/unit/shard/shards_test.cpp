@@ -8,9 +8,9 @@
 #include <atomic>
 #include <random>
 
-#include "params/job_parameters.h"
 #include "gltf/gltf_loader.h"
 #include "image_bits.h"
+#include "params/job_parameters.h"
 #include "render_helpers.h"
 #include "shard/sharded_render.h"
 

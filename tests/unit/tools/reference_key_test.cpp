@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "params/job_parameters.h"
 #include "eval/reference_key.h"
+#include "params/job_parameters.h"
 
 namespace partita::eval {
 namespace {
