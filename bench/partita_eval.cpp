@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "file_io.h"
 #include "quality.h"
 #include "reference.h"
 #include "throughput.h"
@@ -135,6 +136,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        // Every output path is checked before anything renders (a reference takes minutes).
+        if (!jsonPath.empty()) requireOutputFolder(jsonPath);
+        if (!ro.out.empty()) requireOutputFolder(ro.out);
         nlohmann::json out;
         if (*throughput) out = eval::runThroughput(tp);
         if (*reference) out = eval::runReference(ro);

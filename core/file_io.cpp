@@ -71,4 +71,15 @@ void writeFileAtomic(const fs::path& path, std::span<const uint8_t> bytes) {
     fsyncPath(path.parent_path(), O_RDONLY | O_DIRECTORY);
 }
 
+void requireOutputFolder(const std::filesystem::path& file) {
+    namespace fs = std::filesystem;
+    const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw std::runtime_error("cannot write '" + file.string() + "': folder '" + dir.string() +
+                                 "' does not exist");
+    if (fs::is_directory(file, ec))
+        throw std::runtime_error("cannot write '" + file.string() + "': it is a folder");
+}
+
 }  // namespace partita

@@ -13,6 +13,11 @@ namespace partita {
 /// The whole file, or std::runtime_error("cannot read '<path>'").
 std::vector<uint8_t> readFileBytes(const std::filesystem::path& path);
 
+/// Checks, before any work, that `file` could be written: its folder exists and it is not a
+/// folder itself. std::runtime_error("cannot write '<file>': ...") otherwise. Every front end
+/// calls it before it renders, so that a mistyped output path costs nothing.
+void requireOutputFolder(const std::filesystem::path& file);
+
 /// Writes `bytes` to `path` atomically (above); std::runtime_error("cannot write ...").
 void writeFileAtomic(const std::filesystem::path& path, std::span<const uint8_t> bytes);
 

@@ -106,6 +106,9 @@ void attachJobEnvironment(const Job& job, const RunContext& ctx, const Environme
     } catch (const std::exception& e) {
         throw std::runtime_error(std::string("environment image: ") + e.what());
     }
+    // A named scene's job has no folder of its own until now (issue #25 5).
+    std::error_code dirError;
+    fs::create_directories(ctx.store.jobDir(job.id()), dirError);
     fs::path local =
         ctx.store.jobDir(job.id()) / ("environment" + fs::path(env.file).extension().string());
     {

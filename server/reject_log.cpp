@@ -29,6 +29,26 @@ std::string codeName(grpc::StatusCode code) {
     }
 }
 
+namespace {
+
+void logSuppressed(long dropped) {
+    spdlog::warn("{} more rejected requests were not logged (at most {} lines per {} s)", dropped,
+                 RejectLog::kLinesPerWindow, RejectLog::kWindow.count());
+}
+
+}  // namespace
+
+RejectLog::~RejectLog() { flush(); }
+
+void RejectLog::flush() {
+    long dropped = 0;
+    {
+        std::lock_guard lock(mutex_);
+        std::swap(dropped, suppressed_);
+    }
+    if (dropped > 0) logSuppressed(dropped);
+}
+
 void RejectLog::note(std::string_view method, const std::string& peer, const grpc::Status& status) {
     if (!isRejection(status.error_code())) return;
     long dropped = 0;
@@ -47,9 +67,7 @@ void RejectLog::note(std::string_view method, const std::string& peer, const grp
         }
         ++logged_;
     }
-    if (dropped > 0)
-        spdlog::warn("{} more rejected requests were not logged (at most {} lines per {} s)",
-                     dropped, kLinesPerWindow, kWindow.count());
+    if (dropped > 0) logSuppressed(dropped);
     spdlog::warn("rejected {} from {}: {}: {}", method, quoteInput(peer, 100),
                  codeName(status.error_code()), quoteInput(status.error_message(), 200));
 }

@@ -14,9 +14,18 @@ namespace partita::server {
 
 class RejectLog {
   public:
+    RejectLog() = default;
+    RejectLog(const RejectLog&) = delete;
+    RejectLog& operator=(const RejectLog&) = delete;
+    /// Flushes: the count of refusals not logged reaches the log at shutdown too.
+    ~RejectLog();
+
     /// Logs `status` when it is INVALID_ARGUMENT, UNAUTHENTICATED or RESOURCE_EXHAUSTED, at most
     /// kLinesPerWindow lines per kWindow.
     void note(std::string_view method, const std::string& peer, const grpc::Status& status);
+
+    /// Logs the count of refusals not logged so far, if any.
+    void flush();
 
     static constexpr int kLinesPerWindow = 20;
     static constexpr std::chrono::seconds kWindow{10};

@@ -94,7 +94,8 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
                    "until it fits (default: 3/4 of the machine's memory; 0: no limit)");
     app.add_option("--max-store-mb", storeMb,
                    "store size beyond which uploads are refused, MiB (default: half the file "
-                   "system's capacity; 0: no limit)");
+                   "system's capacity, at most what is free there plus what the store holds; 0: "
+                   "no limit)");
     app.add_option("--executor", o.cluster.executor,
                    "where jobs render: local (this process) or slurm (shards of a Slurm job "
                    "array, merged here; the store must be on a file system the nodes share)")
@@ -150,6 +151,9 @@ std::string finalizeServerOptions(ServerOptions& o) {
     if (l.maxWatchStreams < 1) return "--max-watch-streams must be >= 1";
     if (l.maxDepth < 1) return "--max-depth must be >= 1";
     if (o.store.empty()) return "--store must name a folder";
+    // Absolute, so that what the daemon hands to other processes (Slurm's --output and --chdir,
+    // the shard tasks' plan paths) names the same folder wherever they run (issue #25 6).
+    o.store = fs::absolute(o.store);
     if (o.cluster.executor != "local" && o.cluster.executor != "slurm")
         return "--executor must be local or slurm, not '" + o.cluster.executor + "'";
     if (o.cluster.shards < 1 || o.cluster.shards > 100000)

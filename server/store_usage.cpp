@@ -1,5 +1,7 @@
 #include "store_usage.h"
 
+#include <algorithm>
+
 namespace partita::server {
 
 namespace fs = std::filesystem;
@@ -24,7 +26,11 @@ uint64_t defaultStoreLimit(const fs::path& path) {
     fs::path p = fs::absolute(path, ec);
     while (!p.empty() && !fs::exists(p, ec) && p != p.parent_path()) p = p.parent_path();
     fs::space_info space = fs::space(p, ec);
-    return ec ? 0 : uint64_t(space.capacity / 2);
+    if (ec) return 0;
+    // Half the file system, but never more than the store could grow to now: what is free plus
+    // what the store already holds (issue #25 7: half the capacity can exceed the free space).
+    uint64_t reachable = uint64_t(space.available) + folderBytes(path);
+    return std::min(uint64_t(space.capacity / 2), reachable);
 }
 
 }  // namespace partita::server

@@ -12,7 +12,8 @@ namespace partita::server {
 /// skipped). Walks the folder: cheap next to receiving an upload.
 uint64_t folderBytes(const std::filesystem::path& dir);
 
-/// Half the capacity of the file system holding `path` (or its nearest existing parent); 0 when
+/// Half the capacity of the file system holding `path` (or its nearest existing parent), at most
+/// its free space plus what `path` already holds; 0 when
 /// unknown. The default store size limit.
 uint64_t defaultStoreLimit(const std::filesystem::path& path);
 

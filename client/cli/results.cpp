@@ -1,5 +1,7 @@
 #include "cli/results.h"
 
+#include "file_io.h"
+
 #include <system_error>
 
 #include "cli/file_util.h"
@@ -49,13 +51,11 @@ ResultFiles downloadResults(Connection& connection, const std::string& jobId,
 }
 
 void requireOutputFolder(const fs::path& path) {
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-        throw CliError("cannot write '" + path.string() + "': folder '" + dir.string() +
-                       "' does not exist");
-    if (fs::is_directory(path, ec))
-        throw CliError("cannot write '" + path.string() + "': it is a folder");
+    try {
+        partita::requireOutputFolder(path);
+    } catch (const std::runtime_error& e) {
+        throw CliError(e.what());
+    }
 }
 
 }  // namespace partita::cli

@@ -100,6 +100,27 @@ TEST(ServiceEnvironment, AnImageUploadedWithTheSceneLightsIt) {
         << "the image is not left in the store";
 }
 
+TEST(ServiceEnvironment, AnImageInTheNamedScenesFolderLightsIt) {
+    // A named scene's job has no folder of its own before it runs; the image read from the
+    // scene's folder must still reach OpenImageIO (issue #25 5: it always failed).
+    TempDir store, root;
+    fs::copy(fs::path(PARTITA_SCENES_DIR) / "cornell", root / "cornell",
+             fs::copy_options::recursive);
+    writeFile(root / "cornell" / "sky.exr", skyExr(Rgb(2.0f)));
+    Daemon daemon(store.path(), {}, root.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    std::string dark, lit;
+    ASSERT_EQ(runToEnd(*stub, sceneSpec("cornell", 8, 8, 2, 1), dark).state(), pb::JOB_STATE_DONE);
+    pb::JobSpec spec = sceneSpec("cornell", 8, 8, 2, 1);
+    spec.set_environment_file("sky.exr");
+    pb::Job end = runToEnd(*stub, spec, lit);
+    ASSERT_EQ(end.state(), pb::JOB_STATE_DONE) << end.error();
+    EXPECT_GT(meanOfResult(*stub, lit), meanOfResult(*stub, dark)) << "the sky adds light";
+    EXPECT_FALSE(fs::exists(store.path() / "jobs" / lit / "environment.exr"))
+        << "the image is not left in the store";
+}
+
 TEST(ServiceEnvironment, AnImageMustBeUploadedOrInTheNamedScenesFolder) {
     TempDir store;
     Daemon daemon(store.path());

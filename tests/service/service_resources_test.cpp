@@ -250,5 +250,22 @@ TEST(ServiceResources, StoreSizeLimitRefusesNewUploads) {
     EXPECT_TRUE(submit(*stub, sceneSpec("cornell", 16, 16, 1)).status.ok());
 }
 
+TEST(ServiceResources, TheDefaultStoreLimitIsNoMoreThanTheStoreCanGrowTo) {
+    // Half the disk's capacity can be more than is free (issue #25 7): the default is at most
+    // the free space plus what the store holds (1 GiB of slack for other writers meanwhile).
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::ServerInfo info;
+    auto ctx = context(10s);
+    ASSERT_TRUE(stub->GetServerInfo(ctx.get(), pb::ServerInfoRequest{}, &info).ok());
+    fs::space_info space = fs::space(store.path());
+    uint64_t limit = uint64_t(info.limits().max_store_bytes());
+    EXPECT_GT(limit, 0u);
+    EXPECT_LE(limit, uint64_t(space.capacity) / 2);
+    EXPECT_LE(limit, uint64_t(space.available) + (uint64_t(1) << 30));
+}
+
 }  // namespace
 }  // namespace partita::test

@@ -113,6 +113,23 @@ TEST_F(ServiceSlurm, ShardedJobsAreBitIdenticalToTheInProcessRender) {
         << daemon.log();
 }
 
+TEST_F(ServiceSlurm, ARelativeStoreWorks) {
+    // Slurm resolves --output against --chdir, so a relative store failed every sharded job
+    // with a log that did not exist (issue #25 6): partitad makes the store absolute.
+    TempDir store;
+    fs::path relative = fs::relative(store.path());
+    ASSERT_TRUE(relative.is_relative()) << relative;
+    Daemon daemon(relative, slurmFlags(2));
+    ASSERT_TRUE(daemon.running()) << daemon.log();
+    auto stub = daemon.stub();
+    Submitted pt = submit(*stub, sceneSpec("cornell", 24, 18, 4, 3));
+    ASSERT_TRUE(pt.status.ok()) << pt.status.error_message();
+    pb::Job end = waitForEnd(*stub, pt.id, 120s);
+    ASSERT_EQ(end.state(), pb::JOB_STATE_DONE) << end.error() << "\n" << daemon.log();
+    EXPECT_EQ(end.stats().at("shards"), 2.0);
+    expectLikeInProcess(*stub, pt.id, "cornell", 24, 18, 4, 3, "pt");
+}
+
 TEST_F(ServiceSlurm, AKilledShardIsRunAgainAndTheResultStaysTheSame) {
     TempDir store;
     Daemon daemon(store.path(), slurmFlags(3));

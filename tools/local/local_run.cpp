@@ -10,12 +10,6 @@
 
 namespace partita {
 
-void checkOutputFolder(const std::string& file) {
-    std::filesystem::path parent = std::filesystem::absolute(file).parent_path();
-    if (!std::filesystem::is_directory(parent))
-        throw std::runtime_error("output folder '" + parent.string() + "' does not exist");
-}
-
 RenderScene loadLocalScene(const std::string& path, const EnvironmentSettings& environment) {
     SceneData data = loadGltfFile(path);
     for (const auto& w : data.warnings) spdlog::warn("{}", w);

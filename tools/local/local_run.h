@@ -25,10 +25,6 @@ class BarObserver : public RenderObserver {
     bool quiet_;
 };
 
-/// Fail before rendering, not after, when an output cannot be written: std::runtime_error when
-/// the folder of `file` does not exist.
-void checkOutputFolder(const std::string& file);
-
 /// The glTF file at `path` (its warnings logged) with `environment` attached, ready to render.
 RenderScene loadLocalScene(const std::string& path, const EnvironmentSettings& environment);
 

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "file_io.h"
 #include "frontend/progress_bar.h"
 #include "frontend/render_options.h"
 #include "gltf/gltf_loader.h"
@@ -37,8 +38,8 @@ int renderCommand(const std::string& scenePath, RenderOptions& options, const st
     if (std::string err = finalizeRenderOptions(options); !err.empty())
         throw std::invalid_argument(err);
     if (pngPath.empty()) pngPath = fs::path(outPath).replace_extension(".png").string();
-    checkOutputFolder(outPath);
-    checkOutputFolder(pngPath);
+    requireOutputFolder(outPath);
+    requireOutputFolder(pngPath);
     RenderScene scene = loadLocalScene(scenePath, options.settings.environment);
     ThreadPool pool(options.threads);
     ProgressBar bar(!quiet && ProgressBar::stderrIsTerminal());

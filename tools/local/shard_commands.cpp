@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "clock.h"
+#include "file_io.h"
 #include "frontend/progress_bar.h"
 #include "image_io.h"
 #include "local_run.h"
@@ -80,7 +81,7 @@ int runPlanCommand(const PlanCommand& command, RenderOptions& options, bool quie
     if (std::string err = finalizeRenderOptions(options); !err.empty())
         throw std::invalid_argument(err);
     if (command.shards == 0) throw std::invalid_argument("--shards must be at least 1");
-    checkOutputFolder(command.out);
+    requireOutputFolder(command.out);
     const std::string scenePath = fs::absolute(command.scene).lexically_normal().string();
     const uint64_t digest = fileChecksum(readFileBytes(scenePath));
     RenderScene scene = loadLocalScene(scenePath, options.settings.environment);
@@ -103,7 +104,7 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
     if (!shard)
         throw std::invalid_argument(
             "no shard index: give --shard I (or set SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX)");
-    checkOutputFolder(command.out);
+    requireOutputFolder(command.out);
     RenderScene scene = loadPlannedScene(plan);
     CommandRun run(command.threads, quiet);
     ShardResult result = renderPlannedShard(run.environment(scene), plan, *shard);
@@ -117,10 +118,10 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
 
 int runMergeCommand(const MergeCommand& command, bool quiet) {
     const ShardPlan plan = readPlan(command.plan);
-    checkOutputFolder(command.out);
+    requireOutputFolder(command.out);
     std::string png = command.png.empty() ? fs::path(command.out).replace_extension(".png").string()
                                           : command.png;
-    checkOutputFolder(png);
+    requireOutputFolder(png);
     const auto start = Clock::now();
     uint64_t bytesRead = 0;
     ShardMerger merger(plan);
