@@ -41,6 +41,30 @@ void applyShared(const std::string& name, const std::string& text, RenderOptions
     }
 }
 
+/// What --help shows for a value of `spec`: INT, REAL, auto|pt|bdpt, R,G,B, ...
+std::string valueName(const ParameterSpec& spec) {
+    switch (spec.type) {
+        case ParameterType::Bool:
+            return "true|false";
+        case ParameterType::Int:
+            return "INT";
+        case ParameterType::UInt:
+            return "UINT";
+        case ParameterType::Real:
+            return "REAL";
+        case ParameterType::Text:
+            return "TEXT";
+        case ParameterType::Choice: {
+            std::string out;
+            for (const auto& c : spec.choices) out += (out.empty() ? "" : "|") + c;
+            return out;
+        }
+        case ParameterType::Rgb:
+            return "R,G,B";
+    }
+    return "VALUE";
+}
+
 void addParameterFlag(CLI::App& app, RenderOptions& o, const ParameterSpec& spec, bool shared,
                       const std::string& takenBy, const std::string& group) {
     std::string name = spec.name;
@@ -51,7 +75,7 @@ void addParameterFlag(CLI::App& app, RenderOptions& o, const ParameterSpec& spec
             if (shared) applyShared(name, text, o);
         },
         flagHelp(spec, takenBy));
-    option->group(group);
+    option->group(group)->type_name(valueName(spec));
 }
 
 /// "--param NAME=VALUE": any parameter by name, checked when the options are finalised (or by
@@ -112,11 +136,13 @@ void addRenderOptions(CLI::App& app, RenderOptions& o, const std::string& helpAl
             for (const auto& other : registry.names())
                 if (findParameter(registry.find(other)->parameters, spec.name))
                     takenBy += (takenBy.empty() ? "" : ", ") + other;
-            bool own = shown && findParameter(shown->parameters, spec.name);
-            // An algorithm named on the command line: --help shows its parameters only.
+            const ParameterSpec* own =
+                shown ? findParameter(shown->parameters, spec.name) : nullptr;
+            // An algorithm named on the command line: --help shows its parameters only, with
+            // its own words for them.
             std::string group = shown ? (own ? "Parameters of " + shown->name : "")
                                       : "Parameters of the algorithms";
-            addParameterFlag(app, o, spec, false, shown ? "" : takenBy, group);
+            addParameterFlag(app, o, own ? *own : spec, false, shown ? "" : takenBy, group);
         }
     }
     addGenericParameter(app, o);
