@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
+#include "mcmc/startup_parameters.h"
 #include "path_type_bytes.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -166,7 +167,8 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     StartupEstimator estimator = choosePrepassEstimator(ctx.scene, settings.prepass, why);
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed, estimator);
     uint64_t samples = settings.bootstrapSamples;
-    PrepassResult prepass = runPrepass(ctx, sampler, samples, settings.prepassMemoryBytes);
+    PrepassResult prepass = runPrepass(ctx, sampler, samples, settings.prepassMemoryBytes,
+                                       startupDeadline(rs, start, settings.startupShare));
     double prepassSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 
@@ -187,7 +189,8 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
 
     RenderStats& st = out.stats;
     st.labels["prepass"] = why;
-    st.values["prepass_samples"] = double(samples);
+    st.values["prepass_samples"] = double(prepass.samplesA + prepass.samplesB);
+    st.values["prepass_samples_requested"] = double(samples);
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;

@@ -19,8 +19,9 @@ struct PartitionPipelineSettings {
     /// 0.84-0.98x on every shipped scene (docs/partitioned-study.md).
     std::string prepass = "bdpt";
     uint64_t bootstrapSamples = 100000;  // the pre-pass's: the same start-up budget as mlt's
-    uint64_t burnIn = 1024;              // per chain, before its first splat (the paper's)
-    int chains = 256;                    // over all partitions, in proportion to P(i)
+    double startupShare = 0.1;  // with a time budget, the pre-pass's share at most (as mlt's)
+    uint64_t burnIn = 1024;     // per chain, before its first splat (the paper's)
+    int chains = 256;           // over all partitions, in proportion to P(i)
     uint64_t minMutationsPerChain = 32;
     uint64_t roundMutations = 1024;
     uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
@@ -42,6 +43,7 @@ void addPipelineParameters(SettingsTable<S>& t) {
     t.add(bootstrapParameter("pre-pass samples: the path types, P(i), b_i and the chains' starts"),
           &PartitionPipelineSettings::bootstrapSamples);
     t.add(chainsParameter(), &PartitionPipelineSettings::chains);
+    t.add(startupShareParameter(), &PartitionPipelineSettings::startupShare);
 }
 
 }  // namespace partita

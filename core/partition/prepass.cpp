@@ -6,6 +6,7 @@
 #include "light.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
+#include "sample_waves.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -36,17 +37,14 @@ StartupEstimator choosePrepassEstimator(const RenderScene& scene, const std::str
 }
 
 PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampler,
-                         uint64_t samples, uint64_t maxCandidateBytes) {
+                         uint64_t samples, uint64_t maxCandidateBytes, Deadline deadline) {
     ProgressReporter progress(ctx.observer, "prepass", "samples", double(samples));
     struct Block {
         std::map<PathType, double> gamma, sumB, sumSquaresB;
         std::vector<BootstrapCandidate> candidatesB;
         uint64_t rays = 0;
     };
-    uint64_t blocks = (samples + kBlock - 1) / kBlock;
-    std::vector<Block> done(blocks);
-    ctx.pool.parallelFor(size_t(blocks), [&](size_t k) {
-        Block& block = done[k];
+    auto run = [&](uint64_t k, Block& block) {
         std::vector<BootstrapCandidate> scratch;
         std::vector<std::pair<PathType, double>> perType;  // this sample's C per type
         uint64_t first = k * kBlock, end = std::min(samples, first + kBlock);
@@ -75,13 +73,10 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
             block.candidatesB.insert(block.candidatesB.end(), scratch.begin(), scratch.end());
         }
         progress.advance(double(end - first));
-    });
-    progress.flush();
+    };
     PrepassResult r;
-    r.samplesB = samples / 2;
-    r.samplesA = samples - r.samplesB;
     size_t maxCandidates = size_t(maxCandidateBytes / sizeof(BootstrapCandidate));
-    for (Block& block : done) {  // in block order: the same sums for any thread count
+    auto merge = [&](Block& block) {  // in block order: the same sums for any thread count
         for (const auto& [type, c] : block.gamma) r.gamma[type] += c;
         for (const auto& [type, c] : block.sumB) r.sumB[type] += c;
         for (const auto& [type, c2] : block.sumSquaresB) r.sumSquaresB[type] += c2;
@@ -91,7 +86,14 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
         r.candidatesB.insert(
             r.candidatesB.end(), block.candidatesB.begin(),
             block.candidatesB.begin() + long(std::min(room, block.candidatesB.size())));
-    }
+    };
+    uint64_t blocks = (samples + kBlock - 1) / kBlock;
+    uint64_t ran =
+        runInWaves<Block>(ctx.pool, blocks, run, merge, [&] { return Clock::now() >= deadline; });
+    progress.flush();
+    uint64_t used = std::min(samples, ran * kBlock);
+    r.samplesB = used / 2;
+    r.samplesA = used - r.samplesB;
     return r;
 }
 

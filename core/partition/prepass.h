@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "algorithm.h"
+#include "clock.h"
 #include "mcmc/bootstrap.h"
 #include "path_type.h"
 
@@ -44,10 +45,13 @@ struct PrepassResult {
     uint64_t rays = 0;
 };
 
-/// Runs `samples` samples of `sampler` on ctx's pool in fixed blocks (the result does not
-/// depend on the thread count), reporting progress in the phase "prepass"; cancellable.
-/// Half B keeps at most `maxCandidateBytes` of records.
+/// Runs `samples` samples of `sampler` on ctx's pool in fixed blocks, in waves merged in block
+/// order (sample_waves.h: the result does not depend on the thread count, and one wave's
+/// per-type tables are alive at a time), reporting progress in the phase "prepass";
+/// cancellable. Half B keeps at most `maxCandidateBytes` of records. Past `deadline` no further
+/// wave starts: samplesA + samplesB then count the samples that ran (a prefix).
 PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampler,
-                         uint64_t samples, uint64_t maxCandidateBytes = uint64_t(256) << 20);
+                         uint64_t samples, uint64_t maxCandidateBytes = uint64_t(256) << 20,
+                         Deadline deadline = kNoDeadline);
 
 }  // namespace partita

@@ -33,6 +33,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"prepass", "pt"},
         {"bootstrap", "2000"},
         {"chains", "8"},
+        {"startup_share", "0.5"},
         {"y", "16"},
         {"radius", "10"},
         {"epsilon", "0.5"},

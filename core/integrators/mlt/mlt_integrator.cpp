@@ -9,7 +9,9 @@
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
+#include "mcmc/startup_parameters.h"
 #include "path/path.h"
+#include "sample_waves.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "share_range.h"
@@ -26,34 +28,34 @@ constexpr uint64_t kChainStreams = 0x434841494eull << 24;  // "CHAIN"
 }  // namespace
 
 BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
-                             uint64_t samples) {
+                             uint64_t samples, Deadline deadline) {
     ProgressReporter progress(ctx.observer, "bootstrap", "samples", double(samples));
-    uint64_t blocks = (samples + kBootstrapBlock - 1) / kBootstrapBlock;
     struct Block {
         std::vector<BootstrapCandidate> candidates;
         double sum = 0;
         uint64_t rays = 0;
     };
-    std::vector<Block> done(blocks);
-    ctx.pool.parallelFor(size_t(blocks), [&](size_t k) {
-        Block& block = done[k];
+    auto run = [&](uint64_t k, Block& block) {
         uint64_t first = k * kBootstrapBlock, end = std::min(samples, first + kBootstrapBlock);
         for (uint64_t i = first; i < end; ++i) {
             if ((i & 15) == 0) ctx.throwIfCancelled();
             block.sum += sampler.sample(i, block.candidates, block.rays);
         }
         progress.advance(double(end - first));
-    });
-    progress.flush();
+    };
     BootstrapResult r;
-    r.samples = samples;
     double sum = 0;
-    for (Block& block : done) {  // in block order: the same sums for any thread count
+    auto merge = [&](Block& block) {  // in block order: the same sums for any thread count
         sum += block.sum;
         r.rays += block.rays;
         r.candidates.insert(r.candidates.end(), block.candidates.begin(), block.candidates.end());
-    }
-    r.b = samples > 0 ? sum / double(samples) : 0;
+    };
+    uint64_t blocks = (samples + kBootstrapBlock - 1) / kBootstrapBlock;
+    uint64_t ran =
+        runInWaves<Block>(ctx.pool, blocks, run, merge, [&] { return Clock::now() >= deadline; });
+    progress.flush();
+    r.samples = std::min(samples, ran * kBootstrapBlock);
+    r.b = r.samples > 0 ? sum / double(r.samples) : 0;
     return r;
 }
 
@@ -89,9 +91,9 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     uint64_t mutations = timed ? UINT64_MAX / 4 : uint64_t(rs.budget * pixels);
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
-    uint64_t bootstrapSamples = settings.bootstrapSamples;
     MltStart out;
-    out.bootstrap = runBootstrap(ctx, sampler, bootstrapSamples);
+    out.bootstrap = runBootstrap(ctx, sampler, settings.bootstrapSamples,
+                                 startupDeadline(rs, start, settings.startupShare));
     out.bootstrapSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 

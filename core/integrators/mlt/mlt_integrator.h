@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "algorithm.h"
+#include "clock.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "mcmc/chain_plan.h"
 #include "mcmc/veach_mutations.h"
@@ -29,10 +30,11 @@ struct BootstrapResult {
     uint64_t rays = 0;
 };
 
-/// Runs `samples` bootstrap samples on ctx's pool in fixed blocks (deterministic for any thread
-/// count), reporting progress in the phase "bootstrap"; cancellable.
+/// Runs `samples` bootstrap samples on ctx's pool in fixed blocks, in waves merged in block order
+/// (deterministic for any thread count), reporting progress in the phase "bootstrap";
+/// cancellable. Past `deadline` no further wave starts, and b counts the samples that ran.
 BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
-                             uint64_t samples);
+                             uint64_t samples, Deadline deadline = kNoDeadline);
 
 /// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
 /// resampled from the bootstrap.

@@ -10,6 +10,7 @@ const SettingsTable<MltSettings>& mltParameters() {
         t.add(bootstrapParameter("BDPT bootstrap samples: b and the chains' initial paths"),
               &MltSettings::bootstrapSamples);
         t.add(chainsParameter(), &MltSettings::chains);
+        t.add(startupShareParameter(), &MltSettings::startupShare);
         return t;
     }();
     return table;

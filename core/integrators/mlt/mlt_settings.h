@@ -13,6 +13,9 @@ struct MltSettings {
     /// BDPT samples of the start-up (b and the initial paths); Veach and Mitsuba use ~1e5.
     /// Parameter "bootstrap".
     uint64_t bootstrapSamples = 100000;
+    /// With a time budget the bootstrap stops after this share of it (parameter
+    /// "startup_share"; mcmc/startup_parameters.h).
+    double startupShare = 0.1;
     /// Chains: a fixed number (never the thread count, so images do not depend on it), fewer
     /// when the budget would give a chain less than minMutationsPerChain. Parameter "chains".
     int chains = 256;

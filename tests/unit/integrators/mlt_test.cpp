@@ -292,5 +292,19 @@ TEST(Mlt, ATimeBudgetShorterThanTheBootstrapStillEnds) {
     EXPECT_LT(seconds, r.stats.values["bootstrap_seconds"] + 2.0);
 }
 
+TEST(Mlt, ATimeBudgetsBootstrapStopsAtItsShare) {
+    // 2^30 samples would take hours; with a time budget the bootstrap stops after its share
+    // (startup_share, 0.1 by default) and b counts the samples that ran (issue #25 2).
+    RenderSettings st = tinySettings(1, 1);
+    st.budgetKind = BudgetKind::Seconds;
+    st.budget = 1;
+    st.parameters.set("bootstrap", uint64_t(1) << 30);
+    RenderResult r = test::renderWith(loadScene("cornell"), "mlt", st);
+    EXPECT_GT(r.stats.values["bootstrap_samples"], 0.0);
+    EXPECT_LT(r.stats.values["bootstrap_samples"], double(uint64_t(1) << 24));
+    EXPECT_GT(r.stats.values["b"], 0.0);
+    EXPECT_GT(r.stats.values["mutations"], 0.0) << "the chains got the rest";
+}
+
 }  // namespace
 }  // namespace partita

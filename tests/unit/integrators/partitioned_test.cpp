@@ -190,6 +190,20 @@ double secondsToCancel(PartitionedSettings settings, const std::string& phase) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - observer.at_).count();
 }
 
+TEST(Partitioned, ATimeBudgetsPrepassStopsAtItsShare) {
+    // A 1-second job asking for 2^30 pre-pass samples was still in its pre-pass after 6 s
+    // (issue #25 2); now the pre-pass stops after startup_share of the budget, its halves
+    // counting the samples that ran, and the chains get the rest.
+    RenderSettings st = tinySettings(1, 1, BudgetKind::Seconds);
+    st.budget = 1;
+    st.parameters.set("bootstrap", uint64_t(1) << 30).set("k", 3);
+    RenderResult r = test::renderWith(loadScene("cornell"), "partitioned", st);
+    EXPECT_EQ(r.stats.values["prepass_samples_requested"], double(uint64_t(1) << 30));
+    EXPECT_GT(r.stats.values["prepass_samples"], 0.0);
+    EXPECT_LT(r.stats.values["prepass_samples"], double(uint64_t(1) << 24));
+    EXPECT_GT(r.stats.values["mutations"], 0.0) << "the chains got the rest";
+}
+
 TEST(Partitioned, CancelStopsWithinASecondInThePrepass) {
     PartitionedSettings s;
     s.bootstrapSamples = 100000000;
