@@ -89,21 +89,39 @@ bool BootstrapSampler::regenerate(const BootstrapCandidate& candidate, MarkovPat
     return found && evaluatePath(scene_, camera_, out);
 }
 
-std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
-                                       size_t count, Rng& rng) {
+namespace {
+
+/// Systematic resampling over n weights weight(0..n-1).
+template <class Weight>
+std::vector<size_t> resample(size_t n, Weight weight, size_t count, Rng& rng) {
     std::vector<size_t> chosen;
     double total = 0;
-    for (const BootstrapCandidate& c : candidates) total += c.weight;
+    for (size_t j = 0; j < n; ++j) total += weight(j);
     if (!(total > 0) || count == 0) return chosen;
     double u = rng.nextFloat(), running = 0;
     size_t i = 0;
     for (size_t k = 0; k < count; ++k) {
         double target = (double(k) + u) / double(count) * total;
-        while (i + 1 < candidates.size() && running + candidates[i].weight <= target)
-            running += candidates[i++].weight;
+        while (i + 1 < n && running + weight(i) <= target) running += weight(i++);
         chosen.push_back(i);
     }
     return chosen;
+}
+
+}  // namespace
+
+std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
+                                       size_t count, Rng& rng) {
+    return resample(
+        candidates.size(), [&](size_t j) { return double(candidates[j].weight); }, count, rng);
+}
+
+std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
+                                       const std::vector<uint32_t>& members, size_t count,
+                                       Rng& rng) {
+    return resample(
+        members.size(), [&](size_t j) { return double(candidates[members[j]].weight); }, count,
+        rng);
 }
 
 }  // namespace partita

@@ -26,6 +26,10 @@ namespace partita {
 class Camera;
 class RenderScene;
 
+/// Candidates a bootstrap sample leaves on average, about: 12-14 on the shipped scenes (0.7 on
+/// door-ajar). Lists of them reserve this much room, and the daemon's memory estimate counts it.
+inline constexpr double kCandidatesPerSample = 14;
+
 /// One start-up path as a record of 40 bytes (static_assert in bootstrap.cpp).
 struct BootstrapCandidate {
     uint64_t sample = 0;
@@ -72,5 +76,11 @@ class BootstrapSampler {
 /// increasing order), with one uniform from `rng`. Empty when the weights sum to zero.
 std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
                                        size_t count, Rng& rng);
+
+/// The same among candidates[members[j]] only (a partition's, without a copy of its records):
+/// the positions j in `members` drawn.
+std::vector<size_t> resampleCandidates(const std::vector<BootstrapCandidate>& candidates,
+                                       const std::vector<uint32_t>& members, size_t count,
+                                       Rng& rng);
 
 }  // namespace partita

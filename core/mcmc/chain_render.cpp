@@ -44,6 +44,7 @@ std::vector<uint8_t> chainStart(const RenderContext& ctx, const BootstrapSampler
                                 const PathRestriction& accept) {
     uint64_t rays = 0;
     for (size_t c = first; c < candidates.size(); ++c) {
+        if (accept && !accept(candidates[c].type)) continue;  // not worth regenerating
         MarkovPath path;
         if (!sampler.regenerate(candidates[c], path, rays)) continue;
         std::vector<uint8_t> bytes = serializePath(path.vertices);

@@ -25,8 +25,9 @@ void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const 
                            const std::function<void(RenderStats&)>& addStats,
                            const std::function<void(ProgressReporter&)>& afterRound = {});
 
-/// The first candidate from index `first` on whose path, regenerated, serialised and rebuilt,
-/// carries something (f* > 0) and is accepted by `accept` (empty: any): its serialised bytes,
+/// The first candidate from index `first` on whose recorded type and whose path, regenerated,
+/// serialised and rebuilt, carries something (f* > 0) and are accepted by `accept` (empty: any):
+/// its serialised bytes,
 /// or empty when none is (a path whose f* rounds to 0 once rebuilt gives its chain to the next).
 std::vector<uint8_t> chainStart(const RenderContext& ctx, const BootstrapSampler& sampler,
                                 const std::vector<BootstrapCandidate>& candidates, size_t first,

@@ -21,11 +21,12 @@ namespace {
 constexpr uint64_t kResampleStream = 0x50525350ull;        // "PRSP"
 constexpr uint64_t kChainStreams = 0x5041525443ull << 24;  // "PARTC"
 
-/// Half B's candidates that belong to partition p.
-std::vector<BootstrapCandidate> candidatesOf(const PrepassResult& prepass, const Partition& p) {
-    std::vector<BootstrapCandidate> out;
-    for (const BootstrapCandidate& c : prepass.candidatesB)
-        if (p.holds(c.type)) out.push_back(c);
+/// The indices of half B's candidates that belong to partition p (4 bytes a record instead of a
+/// copy of its 40: the complement's may hold most of the pre-pass's records).
+std::vector<uint32_t> candidatesOf(const PrepassResult& prepass, const Partition& p) {
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i < prepass.candidatesB.size(); ++i)
+        if (p.holds(prepass.candidatesB[i].type)) out.push_back(uint32_t(i));
     return out;
 }
 
@@ -50,13 +51,16 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
         uint64_t byShare = uint64_t(std::llround(share * double(s.chains)));
         uint64_t chains = std::clamp<uint64_t>(
             byShare, 1, std::max<uint64_t>(1, mutations[g] / s.minMutationsPerChain));
-        std::vector<BootstrapCandidate> candidates = candidatesOf(prepass, partitions[g]);
+        std::vector<uint32_t> members = candidatesOf(prepass, partitions[g]);
         Rng rng(ctx.settings.seed, kResampleStream + g);
-        std::vector<size_t> starts = resampleCandidates(candidates, size_t(chains), rng);
+        std::vector<size_t> starts =
+            resampleCandidates(prepass.candidatesB, members, size_t(chains), rng);
         const Partition& partition = partitions[g];
         for (size_t k = 0; k < starts.size(); ++k) {
+            // From the drawn record on, the partition's records in the same order as a copy of
+            // them would hold (the others fail `accept`).
             std::vector<uint8_t> start =
-                chainStart(ctx, sampler, candidates, starts[k],
+                chainStart(ctx, sampler, prepass.candidatesB, members[starts[k]],
                            [&](const PathType& t) { return partition.holds(t); });
             if (start.empty()) continue;
             PlannedChain chain;

@@ -76,6 +76,10 @@ PrepassResult runPrepass(const RenderContext& ctx, const BootstrapSampler& sampl
     };
     PrepassResult r;
     size_t maxCandidates = size_t(maxCandidateBytes / sizeof(BootstrapCandidate));
+    // Room for the records the samples are expected to leave (kCandidatesPerSample), at most the
+    // budget: reserved, so that the list does not double past it (untouched, costs nothing).
+    r.candidatesB.reserve(size_t(
+        std::min<double>(double(maxCandidates), double(samples / 2) * kCandidatesPerSample)));
     auto merge = [&](Block& block) {  // in block order: the same sums for any thread count
         for (const auto& [type, c] : block.gamma) r.gamma[type] += c;
         for (const auto& [type, c] : block.sumB) r.sumB[type] += c;

@@ -11,9 +11,9 @@
 #include "mcmc/chain_runner.h"
 #include "mcmc/startup_parameters.h"
 #include "path/path.h"
-#include "sample_waves.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
+#include "sample_waves.h"
 #include "share_range.h"
 #include "thread_pool.h"
 
@@ -44,6 +44,10 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
         progress.advance(double(end - first));
     };
     BootstrapResult r;
+    // Room for the candidates the samples are expected to leave: the list does not double past
+    // them (what is reserved and not touched costs no memory).
+    // (At most 2^24 records, 640 MiB of address space: a larger bootstrap grows as it goes.)
+    r.candidates.reserve(size_t(std::min(double(samples) * kCandidatesPerSample, 16777216.0)));
     double sum = 0;
     auto merge = [&](Block& block) {  // in block order: the same sums for any thread count
         sum += block.sum;
