@@ -237,7 +237,20 @@ void writeExr(const fs::path& path, const LayeredImage& image,
     });
 }
 
-LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* metadata) {
+ImageHeader readImageHeader(std::span<const uint8_t> bytes, const std::string& name) {
+    OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
+    auto in = OIIO::ImageInput::open(fs::path(name).filename().string(), nullptr, &proxy);
+    if (!in)
+        throw std::runtime_error("cannot read image '" + fs::path(name).filename().string() +
+                                 "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    ImageHeader h{spec.width, spec.height, spec.nchannels};
+    in->close();
+    return h;
+}
+
+LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* metadata,
+                     size_t maxPixels) {
     auto fail = [&](const std::string& why) {
         throw std::runtime_error("cannot read image " + quoted(path) + ": " + why);
     };
@@ -249,6 +262,9 @@ LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* m
     const int w = spec.width, h = spec.height, nch = spec.nchannels;
     if (w <= 0 || h <= 0 || nch <= 0) fail("empty image");
     if (spec.depth > 1) fail("volume images are not supported");
+    if (maxPixels > 0 && size_t(w) * size_t(h) > maxPixels)
+        fail(std::to_string(w) + " x " + std::to_string(h) + " pixels are more than the " +
+             std::to_string(maxPixels) + " allowed");
     const size_t npix = size_t(w) * h;
     std::vector<float> data(npix * nch);
     if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, data.data()))

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,21 @@ void writeExr(const std::filesystem::path& path, const LayeredImage& image,
 /// (an 8-bit file gives its normalised code values, no sRGB decoding). If `metadata` is given
 /// it receives every string attribute of the file's header (including OIIO's own, such as
 /// "compression"), except "partita:layers".
+/// `maxPixels` (> 0): an image of more pixels is refused from its header, before anything is
+/// decoded.
 LayeredImage readExr(const std::filesystem::path& path,
-                     std::map<std::string, std::string>* metadata = nullptr);
+                     std::map<std::string, std::string>* metadata = nullptr, size_t maxPixels = 0);
+
+/// An image's size as its header gives it, without decoding the pixels.
+struct ImageHeader {
+    int width = 0, height = 0, channels = 0;
+    size_t pixels() const { return size_t(width) * size_t(height); }
+};
+
+/// The header of the image in `bytes`, a file named `name` (its extension names the format to
+/// OpenImageIO): what a request's uploaded image will cost, known before it is decoded.
+/// std::runtime_error naming `name` when it is not an image OpenImageIO reads.
+ImageHeader readImageHeader(std::span<const uint8_t> bytes, const std::string& name);
 
 /// 8-bit sRGB PNG: each channel scaled by 2^exposureStops, clamped to [0, 1] (NaN as 0),
 /// encoded with the exact piecewise sRGB curve and rounded to the nearest code value, no

@@ -18,14 +18,13 @@ void attachEnvironment(SceneData& data, const EnvironmentSettings& env) {
     }
     Image image;
     try {
-        image = readExr(env.file).combined;
+        // Its size is checked from the header, before it is decoded (issue #25 3).
+        image = readExr(env.file, nullptr, size_t(kMaxEnvironmentPixels)).combined;
     } catch (const std::exception& e) {
         throw std::invalid_argument(std::string("environment: ") + e.what());
     }
     if (image.empty())
         throw std::invalid_argument("environment: the image has no R, G, B channels");
-    if (static_cast<long long>(image.width) * image.height > kMaxEnvironmentPixels)
-        throw std::invalid_argument("environment: the image is larger than 16384 x 8192 pixels");
     data.environment = std::make_shared<EnvironmentMap>(std::move(image), env.rotationDegrees);
 }
 

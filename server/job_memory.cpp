@@ -148,7 +148,8 @@ std::string humanBytes(double b) {
 
 MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSettings& s,
                                  uint64_t sceneBytes,
-                                 int /*renderThreads: no algorithm keeps a film per thread*/) {
+                                 int /*renderThreads: no algorithm keeps a film per thread*/,
+                                 const ImageHeader& environment) {
     const int tile = 16;
     double padded =
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
@@ -171,8 +172,12 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s, pixels);
     double mltBytes = mlt.bootstrap + mlt.chains + mlt.types;
     double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
+    // An environment image while it loads: the decoded channels (4 B each), its RGB copy and
+    // the map's importance tables (environment_map.h: 12 + 8 B a pixel).
+    double sky = double(environment.pixels()) * (4.0 * environment.channels + 20);
     MemoryEstimate e;
-    e.bytes = uint64_t(film + images + parts + splats + mltBytes + guides + scene + kBaseline);
+    e.bytes =
+        uint64_t(film + images + parts + splats + mltBytes + guides + scene + sky + kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s, %d layers %s", s.width, s.height, films,
                   films == 1 ? "" : "s", humanBytes(film).c_str(), layers,
@@ -188,6 +193,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
                        humanBytes(mlt.types);
     if (guides > 0) e.breakdown += ", guides " + humanBytes(guides);
     e.breakdown += ", scene " + humanBytes(scene);
+    if (sky > 0) e.breakdown += ", environment " + humanBytes(sky);
     return e;
 }
 

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <string>
 
+#include "image_io.h"
 #include "render_settings.h"
 
 namespace partita::server {
@@ -30,8 +31,10 @@ struct MemoryEstimate {
     std::string breakdown;  // "film 36 B/pixel, 34 layers x 49 B/pixel, scene 1.2 MiB"
 };
 
+/// `environment`: the header of the job's environment image (all zero without one).
 MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSettings& settings,
-                                 uint64_t sceneBytes, int renderThreads);
+                                 uint64_t sceneBytes, int renderThreads,
+                                 const ImageHeader& environment = {});
 
 /// "512 KiB", "1.3 GiB".
 std::string humanBytes(double bytes);

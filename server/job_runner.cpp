@@ -120,10 +120,14 @@ void attachJobEnvironment(const Job& job, const RunContext& ctx, const Environme
     onDisk.file = local.string();
     try {
         attachEnvironment(data, onDisk);
-    } catch (...) {
+    } catch (const std::exception& e) {
         std::error_code ec;
         fs::remove(local, ec);
-        throw;
+        // The message names the job's image, not the store's copy of it (a server path).
+        std::string why = e.what();
+        for (size_t at; (at = why.find(local.string())) != std::string::npos;)
+            why.replace(at, local.string().size(), env.file);
+        throw std::invalid_argument(why);
     }
     std::error_code ec;
     fs::remove(local, ec);

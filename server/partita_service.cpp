@@ -166,6 +166,8 @@ grpc::Status PartitaService::submitJob(const pb::SubmitJobRequest& request,
         std::string error;
         if (scenes_.resolve(spec.scene().scene_name(), code, error).empty()) return {code, error};
     }
+    if (grpc::Status s = checkEnvironmentImage(spec, scenes_, limits_, validated); !s.ok())
+        return s;
     pb::Job job;
     grpc::Status s = jobs_.submit(spec, validated, job);
     if (s.ok()) {

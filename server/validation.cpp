@@ -13,6 +13,7 @@
 #include "gltf/resource_resolver.h"
 #include "parameter_wire.h"
 #include "params/job_parameters.h"
+#include "scene_environment.h"
 #include "scene_source.h"
 #include "text.h"
 
@@ -187,6 +188,28 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
     if (grpc::Status st = checkServerLimits(spec, s, limits); !st.ok()) return st;
     if (std::string why = validateJob(*entry, s, limits.renderLimits()); !why.empty())
         return invalid(why);
+    return grpc::Status::OK;
+}
+
+grpc::Status checkEnvironmentImage(const pb::JobSpec& spec, const SceneSource& scenes,
+                                   const ServiceLimits& limits, ValidatedSpec& v) {
+    const std::string& file = v.settings.environment.file;
+    if (file.empty()) return grpc::Status::OK;
+    std::vector<uint8_t> bytes;
+    try {
+        bytes = spec.scene().has_scene_name()
+                    ? scenes.readNamedResource(spec.scene().scene_name(), file,
+                                               uint64_t(limits.maxUploadBytes))
+                    : SceneSource::readUploadedResource(spec.scene(), file);
+        v.environment = readImageHeader(bytes, file);
+    } catch (const std::exception&) {
+        return grpc::Status::OK;  // the job fails when it runs, saying why
+    }
+    if (v.environment.pixels() > size_t(kMaxEnvironmentPixels))
+        return invalid("the environment image '" + quoteInput(file) + "' is " +
+                       std::to_string(v.environment.width) + " x " +
+                       std::to_string(v.environment.height) +
+                       " pixels, more than the 16384 x 8192 allowed");
     return grpc::Status::OK;
 }
 

@@ -9,15 +9,21 @@
 
 #include <string>
 
+#include "image_io.h"
 #include "proto.h"
 #include "render_settings.h"
 #include "service_limits.h"
 
 namespace partita::server {
 
+class SceneSource;
+
 struct ValidatedSpec {
     std::string algorithm;
     RenderSettings settings;
+    /// The environment image's header, when the job names one that could be read at submission
+    /// (checkEnvironmentImage): what admission counts for it.
+    ImageHeader environment;
 };
 
 /// The defaults of unset fields: algorithm "pt", the algorithm's native budget unit with 16 per
@@ -29,6 +35,13 @@ grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limit
 /// store) when the job runs.
 grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
                               ValidatedSpec& out);
+
+/// Reads the header of the environment image `v` names (an uploaded resource, or a file of the
+/// named scene's folder found through `scenes`) into v.environment, before it is ever decoded:
+/// INVALID_ARGUMENT for more pixels than the core accepts (kMaxEnvironmentPixels). An image
+/// that cannot be read now is left to fail the job when it runs, with the loader's message.
+grpc::Status checkEnvironmentImage(const pb::JobSpec& spec, const SceneSource& scenes,
+                                   const ServiceLimits& limits, ValidatedSpec& v);
 
 /// The scene as listings, logs and metadata name it: the scene name, an upload's file name
 /// (scene_file), or "upload".

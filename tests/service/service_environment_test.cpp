@@ -121,6 +121,47 @@ TEST(ServiceEnvironment, AnImageInTheNamedScenesFolderLightsIt) {
         << "the image is not left in the store";
 }
 
+/// A Radiance HDR file's header claiming `width` x `height` pixels, and no pixels: all that a
+/// daemon should read of it before deciding whether it may decode it.
+std::string hdrHeaderOnly(int width, int height) {
+    return "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " +
+           std::to_string(width) + "\n";
+}
+
+TEST(ServiceEnvironment, AnImageIsAdmittedByItsHeaderBeforeItIsDecoded) {
+    // issue #25 3: an environment image was decoded before its size was checked, and its
+    // memory was not in the job's estimate.
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-job-memory", "300"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    auto withImage = [](const std::string& bytes) {
+        pb::JobSpec spec = unlitTriangle();
+        auto* r = spec.mutable_scene()->mutable_gltf()->add_resources();
+        r->set_uri("sky.hdr");
+        r->set_data(bytes);
+        spec.set_environment_file("sky.hdr");
+        return spec;
+    };
+    Submitted huge = submit(*stub, withImage(hdrHeaderOnly(16385, 8192)));
+    EXPECT_EQ(huge.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(huge.status.error_message(),
+              "the environment image 'sky.hdr' is 16385 x 8192 pixels, more than the 16384 x "
+              "8192 allowed");
+    // 8192 x 4096 is allowed, but its 1 GiB while it loads is over this daemon's 300 MiB.
+    Submitted big = submit(*stub, withImage(hdrHeaderOnly(8192, 4096)));
+    EXPECT_EQ(big.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(big.status.error_message().find("environment 1.0 GiB"), std::string::npos)
+        << big.status.error_message();
+    // A small one is admitted; its pixels are missing, and the job's error names the image as
+    // the job gave it, not the store's copy of it.
+    std::string id;
+    pb::Job end = runToEnd(*stub, withImage(hdrHeaderOnly(64, 32)), id);
+    EXPECT_EQ(end.state(), pb::JOB_STATE_FAILED);
+    EXPECT_NE(end.error().find("sky.hdr"), std::string::npos) << end.error();
+    EXPECT_EQ(end.error().find(store.path().string()), std::string::npos) << end.error();
+}
+
 TEST(ServiceEnvironment, AnImageMustBeUploadedOrInTheNamedScenesFolder) {
     TempDir store;
     Daemon daemon(store.path());

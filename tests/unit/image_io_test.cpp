@@ -120,6 +120,36 @@ TEST_F(ImageIoTest, ExrWithoutLayers) {
     EXPECT_TRUE(back.layers.empty());
 }
 
+TEST_F(ImageIoTest, ASizeLimitIsCheckedFromTheHeaderAndHeadersReadFromBytes) {
+    LayeredImage img;
+    img.combined = randomImage(8, 4, 3);
+    const fs::path path = dir_ / "limit.exr";
+    writeExr(path, img);
+    EXPECT_NO_THROW(readExr(path, nullptr, 32));
+    try {
+        readExr(path, nullptr, 31);
+        ADD_FAILURE() << "an image over the limit was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("8 x 4 pixels are more than the 31 allowed"),
+                  std::string::npos)
+            << e.what();
+    }
+    std::ifstream in(path, std::ios::binary);
+    std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+    ImageHeader h = readImageHeader(bytes, "sky.exr");
+    EXPECT_EQ(h.width, 8);
+    EXPECT_EQ(h.height, 4);
+    EXPECT_EQ(h.channels, 3);
+    // A Radiance header alone is enough to know the size.
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 8192\n";
+    h = readImageHeader({reinterpret_cast<const uint8_t*>(hdr.data()), hdr.size()}, "a/sky.hdr");
+    EXPECT_EQ(h.pixels(), size_t(8192) * 4096);
+    std::string junk = "not an image";
+    EXPECT_THROW(
+        readImageHeader({reinterpret_cast<const uint8_t*>(junk.data()), junk.size()}, "sky.exr"),
+        std::runtime_error);
+}
+
 TEST_F(ImageIoTest, ExrRejectsMismatchedLayers) {
     LayeredImage img;
     img.combined = Image(4, 4);
