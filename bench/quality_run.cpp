@@ -429,6 +429,11 @@ nlohmann::json resultJson(const AlgorithmRun& run, const AlgorithmRun& baseline,
         perMutation[name] = orNull(a);
     j["acceptance_per_mutation"] = perMutation;
     j["statistics_mean"] = meanStatistics(statistics(run));
+    // Chains that moved in none of the last half of their mutations, per seed (MCMC only).
+    nlohmann::json stuck = nlohmann::json::array();
+    for (const Statistics& st : statistics(run))
+        if (auto it = st.find("stuck_chains"); it != st.end()) stuck.push_back(it->second);
+    j["stuck_chains"] = stuck;
     j["job_memory_estimate_mb"] = orNull(run.estimateMb);
     j["job_memory_estimate_breakdown"] = run.estimateBreakdown;
     nlohmann::json perSeed = nlohmann::json::array();

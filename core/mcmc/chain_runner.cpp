@@ -28,6 +28,7 @@ struct ChainRunner::Chain {
     MarkovChain markov;
     const PlannedChain& plan;
     uint64_t done = 0;
+    uint64_t lastMove = 0;      // 1 + the index of its last mutation that moved; 0: none yet
     std::vector<Splat> splats;  // of the current round
 };
 
@@ -105,11 +106,20 @@ void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {
         };
         for (uint64_t i = 0; i < steps; ++i) {
             if ((i & 63) == 0) ctx_.throwIfCancelled();
-            c.markov.step(splat);
+            if (c.markov.step(splat)) c.lastMove = c.done + i + 1;
         }
         c.done += steps;
         progress.advance(double(steps));
     });
+}
+
+uint64_t ChainRunner::stuckChains(int group) const {
+    uint64_t stuck = 0;
+    for (const auto& c : chains_)
+        if ((group < 0 || c->plan.group == uint32_t(group)) && c->done > 0 &&
+            c->lastMove <= c->done / 2)
+            ++stuck;
+    return stuck;
 }
 
 void ChainRunner::publishProgressValues(ProgressReporter& progress) const {

@@ -56,6 +56,9 @@ class ChainRunner {
     uint64_t mutationsDone(int group = -1) const;
     /// Per mutation name: proposed, accepted, sum of a, over all chains (of a group if >= 0).
     std::vector<std::pair<std::string, MutationStats>> mutationStats(int group = -1) const;
+    /// Chains (of a group if >= 0) that moved in none of the last half of their mutations so
+    /// far: stuck on a path no proposal leaves (issue #22 2). Burn-in does not count.
+    uint64_t stuckChains(int group = -1) const;
     uint64_t rays() const;
 
   private:

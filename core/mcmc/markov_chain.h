@@ -42,9 +42,9 @@ class MarkovChain {
                 MarkovPath start, Rng rng);
 
     /// One mutation. splat(raster, type, value) receives each state's f / f* times its
-    /// expected-value weight.
+    /// expected-value weight. Returns whether the chain moved.
     template <typename Splat>
-    void step(Splat&& splat) {
+    bool step(Splat&& splat) {
         size_t chosen = SIZE_MAX;
         auto propose = [&](const MarkovPath& x, Rng& rng) {
             Proposal<MarkovPath> y;
@@ -64,6 +64,7 @@ class MarkovChain {
             st.acceptance += a;
             st.accepted += moved;
         }
+        return moved;
     }
 
     const MarkovPath& state() const { return current_; }

@@ -103,12 +103,13 @@ double acceptanceOf(const ChainRunner& runner, size_t g) {
 
 /// Partition g's mutations done and acceptance, from a runner or from merged shards.
 struct GroupProgress {
-    std::function<double(size_t)> mutations, acceptance;
+    std::function<double(size_t)> mutations, acceptance, stuckChains;
 };
 
 GroupProgress progressOf(const ChainRunner& runner) {
     return {[&runner](size_t g) { return double(runner.mutationsDone(int(g))); },
-            [&runner](size_t g) { return acceptanceOf(runner, g); }};
+            [&runner](size_t g) { return acceptanceOf(runner, g); },
+            [&runner](size_t g) { return double(runner.stuckChains(int(g))); }};
 }
 
 void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions,
@@ -124,6 +125,7 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         if (!p.complement) st.values[key + "b_error"] = p.bError;
         st.values[key + "mutations"] = groups.mutations(g);
         st.values[key + "acceptance"] = groups.acceptance(g);
+        st.values[key + "stuck_chains"] = groups.stuckChains(g);
     }
 }
 
@@ -360,12 +362,14 @@ RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<cons
         auto it = merged.sums.find(key);
         return it == merged.sums.end() ? 0.0 : it->second;
     };
-    GroupProgress groups{[&](size_t g) { return double(merged.counts[g]); },
-                         [&](size_t g) {
-                             const std::string key = "group_" + std::to_string(g) + "_";
-                             double proposed = sum(key + "proposed");
-                             return proposed > 0 ? sum(key + "accepted") / proposed : 0.0;
-                         }};
+    GroupProgress groups{
+        [&](size_t g) { return double(merged.counts[g]); },
+        [&](size_t g) {
+            const std::string key = "group_" + std::to_string(g) + "_";
+            double proposed = sum(key + "proposed");
+            return proposed > 0 ? sum(key + "accepted") / proposed : 0.0;
+        },
+        [&](size_t g) { return sum("group_" + std::to_string(g) + "_stuck_chains"); }};
     RenderResult result;
     result.image = resolvePartitions(imageOf, st.partitions, rs.width, rs.height);
     result.stats = st.stats;

@@ -17,6 +17,7 @@ ShardWork chainShardWork(ChainRunner& runner, const ChainPlan& plan) {
         work.counts.push_back(runner.mutationsDone(int(g)));
     }
     work.sums["rays"] = double(runner.rays());
+    work.sums["stuck_chains"] = double(runner.stuckChains());
     for (const auto& [name, m] : runner.mutationStats()) {
         work.sums["proposed_" + name] = double(m.proposed);
         work.sums["accepted_" + name] = double(m.accepted);
@@ -60,6 +61,9 @@ ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_
             work.sums[key + "proposed"] += double(m.proposed);
             work.sums[key + "accepted"] += double(m.accepted);
         }
+    for (size_t g = 0; g < part.groups.size(); ++g)
+        work.sums["group_" + std::to_string(g) + "_stuck_chains"] =
+            double(runner.stuckChains(int(g)));
     return work;
 }
 

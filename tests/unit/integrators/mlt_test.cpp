@@ -292,6 +292,42 @@ TEST(Mlt, ATimeBudgetShorterThanTheBootstrapStillEnds) {
     EXPECT_LT(seconds, r.stats.values["bootstrap_seconds"] + 2.0);
 }
 
+TEST(Mlt, StuckChainsAreCountedForEveryMcmcAlgorithm) {
+    // A chain is stuck when it moved in none of the last half of its mutations (issue #22 2).
+    // With Veach's mutations nothing sticks on the diffuse box, and every MCMC algorithm says so,
+    // per partition too.
+    RenderScene scene = loadScene("cornell");
+    for (const char* algorithm : {"mlt", "partitioned", "guided"}) {
+        RenderSettings st = tinySettings(8, 1);
+        st.budgetKind = BudgetKind::MutationsPerPixel;
+        st.parameters.set("bootstrap", 4000);
+        RenderResult r = test::renderWith(scene, algorithm, st);
+        ASSERT_EQ(r.stats.values.count("stuck_chains"), 1u) << algorithm;
+        EXPECT_EQ(r.stats.values["stuck_chains"], 0.0) << algorithm;
+        EXPECT_GT(r.stats.values["chains"], 0.0) << algorithm;
+        if (std::string(algorithm) != "mlt") {
+            EXPECT_EQ(r.stats.values.count("partition_0_stuck_chains"), 1u) << algorithm;
+        }
+    }
+    // The negative control: only the caustic perturbation, which applies to no path of a box
+    // without specular surfaces, so no chain ever moves and every one is stuck.
+    MltSettings causticOnly;
+    causticOnly.bootstrapSamples = 4000;
+    causticOnly.mutations.bidirectionalWeight = 0;
+    causticOnly.mutations.lensWeight = 0;
+    causticOnly.mutations.multiChainWeight = 0;
+    RenderSettings st = tinySettings(8, 1);
+    st.budgetKind = BudgetKind::MutationsPerPixel;
+    Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    RenderObserver observer;
+    RenderContext ctx{scene, camera, st, pool, cancel, observer};
+    RenderResult stuck = MltAlgorithm(causticOnly).render(ctx);
+    EXPECT_GT(stuck.stats.values["chains"], 0.0);
+    EXPECT_EQ(stuck.stats.values["stuck_chains"], stuck.stats.values["chains"]);
+}
+
 TEST(Mlt, ATimeBudgetsBootstrapStopsAtItsShare) {
     // 2^30 samples would take hours; with a time budget the bootstrap stops after its share
     // (startup_share, 0.1 by default) and b counts the samples that ran (issue #25 2).
