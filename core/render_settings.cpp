@@ -1,9 +1,9 @@
 #include "render_settings.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 namespace partita {
 
@@ -72,19 +72,20 @@ SettingsTable<RenderSettings> makeSharedParameters() {
     return t;
 }
 
+/// The budget's rules; numbers as the shortest decimal that reads back ("2000000", not "2e+06").
 std::string checkBudget(const RenderSettings& s, const RenderLimits& limits) {
-    std::ostringstream err;
+    auto num = [](double v) { return fmt::format("{}", v); };
     if (!std::isfinite(s.budget) || s.budget <= 0)
-        err << "budget must be a positive number, got " << s.budget;
-    else if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
-        err << "time budget " << s.budget << " s exceeds the limit of " << limits.maxSeconds
-            << " s";
-    else if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
-        err << "budget " << s.budget << " per pixel exceeds the limit of "
-            << limits.maxSamplesPerPixel;
-    else if (s.budgetKind != BudgetKind::Seconds && s.budget != std::floor(s.budget))
-        err << "samples/mutations per pixel must be a whole number, got " << s.budget;
-    return err.str();
+        return "budget must be a positive number, got " + num(s.budget);
+    if (s.budgetKind == BudgetKind::Seconds && s.budget > limits.maxSeconds)
+        return "time budget " + num(s.budget) + " s exceeds the limit of " +
+               num(limits.maxSeconds) + " s";
+    if (s.budgetKind != BudgetKind::Seconds && s.budget > limits.maxSamplesPerPixel)
+        return "budget " + num(s.budget) + " per pixel exceeds the limit of " +
+               num(limits.maxSamplesPerPixel);
+    if (s.budgetKind != BudgetKind::Seconds && s.budget != std::floor(s.budget))
+        return "samples/mutations per pixel must be a whole number, got " + num(s.budget);
+    return "";
 }
 
 }  // namespace

@@ -146,6 +146,9 @@ grpc::Status checkServerLimits(const pb::JobSpec& spec, const RenderSettings& s,
         return exhausted("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                          " exceeds this server's limit of " + std::to_string(limits.maxWidth) +
                          "x" + std::to_string(limits.maxHeight));
+    if (s.maxDepth > limits.maxDepth)
+        return exhausted("max_depth = " + std::to_string(s.maxDepth) +
+                         " exceeds this server's limit of " + std::to_string(limits.maxDepth));
     if (const auto* b = s.parameters.find("bootstrap"))
         if (const auto* samples = std::get_if<uint64_t>(b);
             samples && *samples > limits.maxBootstrapSamples)

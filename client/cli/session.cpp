@@ -1,8 +1,14 @@
 #include "cli/session.h"
 
 #include "cli/job_spec.h"
+
+#include <cfloat>
+#include <climits>
+#include <cstdint>
+
 #include "cli/table.h"
 #include "frontend/progress_bar.h"
+#include "params/job_parameters.h"
 
 namespace partita::cli {
 
@@ -46,31 +52,26 @@ std::vector<std::string> Session::algorithmParameters(const std::string& algorit
 
 void Session::checkLimits(const partita::v1::JobSpec& spec) {
     if (!serverInfo().has_limits()) return;
+    // The core's own rules with this server's limits (GetServerInfo), not a copy of them: what
+    // fails here is over a limit, the rest having passed validateJobSpec already.
     const partita::v1::Limits& l = serverInfo().limits();
-    auto over = [](const std::string& what, double value, double limit, const char* unit) {
-        throw CliError(what + " " + formatCount(value) + " exceeds the server's limit of " +
-                           formatCount(limit) + unit,
-                       "RESOURCE_EXHAUSTED");
+    RenderLimits limits;
+    auto or_ = [](auto limit, auto unlimited) {
+        return limit > 0 ? decltype(unlimited)(limit) : unlimited;
     };
+    limits.maxWidth = or_(l.max_width(), INT_MAX);
+    limits.maxHeight = or_(l.max_height(), INT_MAX);
+    limits.maxDepth = or_(l.max_depth(), INT_MAX);
+    limits.maxSamplesPerPixel = or_(l.max_samples_per_pixel(), DBL_MAX);
+    limits.maxSeconds = or_(l.max_seconds(), DBL_MAX);
+    limits.maxBootstrapSamples = or_(l.max_bootstrap_samples(), UINT64_MAX);
     std::string error;
     const RenderSettings s = settingsOfSpec(spec, error);
     if (!error.empty()) return;  // the server's message says what is wrong
-    if (l.max_width() > 0 && s.width > l.max_width())
-        over("--width", s.width, l.max_width(), " pixels");
-    if (l.max_height() > 0 && s.height > l.max_height())
-        over("--height", s.height, l.max_height(), " pixels");
-    if (l.max_depth() > 0 && s.maxDepth > l.max_depth())
-        over("--max-depth", s.maxDepth, l.max_depth(), "");
-    const auto& b = spec.budget();
-    if (b.kind() == partita::v1::BUDGET_KIND_SECONDS) {
-        if (l.max_seconds() > 0 && b.amount() > l.max_seconds())
-            over("--seconds", b.amount(), l.max_seconds(), " s");
-    } else if (b.kind() != partita::v1::BUDGET_KIND_UNSPECIFIED) {
-        const char* flag =
-            b.kind() == partita::v1::BUDGET_KIND_SAMPLES_PER_PIXEL ? "--spp" : "--mpp";
-        if (l.max_samples_per_pixel() > 0 && b.amount() > l.max_samples_per_pixel())
-            over(flag, b.amount(), l.max_samples_per_pixel(), " per pixel");
-    }
+    registerBuiltinAlgorithms();
+    const auto* entry = AlgorithmRegistry::instance().find(spec.algorithm());
+    std::string why = entry ? validateJob(*entry, s, limits) : validateSettings(s, limits);
+    if (!why.empty()) throw CliError(why, "RESOURCE_EXHAUSTED");
 }
 
 void Session::checkAlgorithm(const std::string& algorithm) {

@@ -118,7 +118,7 @@ TEST(ServiceValidation, EverySpecErrorHasItsCodeAndAClearMessage) {
         {"max depth 0", [](pb::JobSpec& s) { s.set_max_depth(0); }, Code::INVALID_ARGUMENT,
          "max_depth = 0 must be >= 1"},
         {"max depth over the limit", [](pb::JobSpec& s) { s.set_max_depth(65); },
-         Code::INVALID_ARGUMENT, "max_depth = 65 exceeds the limit of 64"},
+         Code::RESOURCE_EXHAUSTED, "max_depth = 65 exceeds this server's limit of 64"},
         {"negative preview interval", [](pb::JobSpec& s) { s.set_preview_interval_seconds(-1); },
          Code::INVALID_ARGUMENT, "preview_interval = -1 must be >= 0"},
         {"tiny preview interval", [](pb::JobSpec& s) { s.set_preview_interval_seconds(0.001); },
