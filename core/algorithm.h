@@ -60,6 +60,10 @@ class RenderObserver {
     /// result (that is returned by render()). The image is the observer's to keep (an algorithm
     /// resolves a fresh one for each call and moves it in), so keeping it costs no copy.
     virtual void onPreview(LayeredImage /*image*/, const RenderStats&) {}
+    /// Whether onPreview is worth calling at all: an observer that shows no previews says no,
+    /// and algorithms then resolve none (a preview of a film with thousands of types costs
+    /// about a fifth of a path-traced bathroom at one a second).
+    virtual bool wantsPreviews() const { return true; }
 };
 
 struct RenderContext {

@@ -41,7 +41,8 @@ class SamplePassLoop {
             if (timed && elapsed >= s.budget) break;
             // A first preview right after the first (one-sample) pass, so that a watcher sees
             // the image within a moment of the render starting; then one per interval.
-            bool previewDue = s.previewIntervalSeconds > 0 && sppDone_ < targetSpp &&
+            bool previewDue = s.previewIntervalSeconds > 0 && ctx_.observer.wantsPreviews() &&
+                              sppDone_ < targetSpp &&
                               (begin == 0 || secondsSince(lastPreview) >= s.previewIntervalSeconds);
             if (previewDue) {
                 lastPreview = Clock::now();

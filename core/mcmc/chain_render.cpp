@@ -25,7 +25,7 @@ void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const 
     bool first = true;
     auto afterRound = [&](double elapsed) {
         if (publish) publish(progress);
-        if (rs.previewIntervalSeconds <= 0) return;
+        if (rs.previewIntervalSeconds <= 0 || !ctx.observer.wantsPreviews()) return;
         if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
         first = false;
         lastPreview = Clock::now();

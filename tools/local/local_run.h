@@ -19,6 +19,8 @@ class BarObserver : public RenderObserver {
     void onProgress(const RenderProgress& p) override {
         if (!quiet_) bar_.update(p);
     }
+    /// A local render shows its progress, never a preview: none is resolved.
+    bool wantsPreviews() const override { return false; }
 
   private:
     ProgressBar& bar_;
