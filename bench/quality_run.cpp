@@ -429,11 +429,16 @@ nlohmann::json resultJson(const AlgorithmRun& run, const AlgorithmRun& baseline,
         perMutation[name] = orNull(a);
     j["acceptance_per_mutation"] = perMutation;
     j["statistics_mean"] = meanStatistics(statistics(run));
-    // Chains that moved in none of the last half of their mutations, per seed (MCMC only).
+    // Chains that moved in none of the last half of their mutations, and chains that never left
+    // their start's type, per seed (MCMC only).
     nlohmann::json stuck = nlohmann::json::array();
     for (const Statistics& st : statistics(run))
         if (auto it = st.find("stuck_chains"); it != st.end()) stuck.push_back(it->second);
     j["stuck_chains"] = stuck;
+    nlohmann::json bound = nlohmann::json::array();
+    for (const Statistics& st : statistics(run))
+        if (auto it = st.find("type_bound_chains"); it != st.end()) bound.push_back(it->second);
+    j["type_bound_chains"] = bound;
     j["job_memory_estimate_mb"] = orNull(run.estimateMb);
     j["job_memory_estimate_breakdown"] = run.estimateBreakdown;
     nlohmann::json perSeed = nlohmann::json::array();

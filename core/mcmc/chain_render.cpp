@@ -72,6 +72,7 @@ void addChainStats(RenderStats& st, const ChainRunner& runner, const ChainPlan& 
     st.values["rays"] = rays;
     st.values["rays_per_second"] = seconds > 0 ? rays / seconds : 0;
     st.values["stuck_chains"] = double(runner.stuckChains());
+    st.values["type_bound_chains"] = double(runner.typeBoundChains());
     for (const auto& [name, m] : runner.mutationStats()) {
         st.values["proposed_" + name] = double(m.proposed);
         st.values["acceptance_" + name] = m.proposed ? double(m.accepted) / double(m.proposed) : 0;

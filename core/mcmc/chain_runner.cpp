@@ -28,8 +28,10 @@ struct ChainRunner::Chain {
     MarkovChain markov;
     const PlannedChain& plan;
     uint64_t done = 0;
-    uint64_t lastMove = 0;      // 1 + the index of its last mutation that moved; 0: none yet
-    std::vector<Splat> splats;  // of the current round
+    uint64_t lastMove = 0;       // 1 + the index of its last mutation that moved; 0: none yet
+    PathType startType;          // its path's type when its counted mutations began
+    bool leftStartType = false;  // its path's type has differed from startType since
+    std::vector<Splat> splats;   // of the current round
 };
 
 ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
@@ -101,16 +103,28 @@ void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {
         uint64_t steps = std::min(roundLength, c.plan.mutations - c.done);
         c.splats.clear();
         c.splats.reserve(size_t(2 * steps));
+        if (c.done == 0) c.startType = c.markov.state().type;  // after the burn-in
         auto splat = [&](Vec2f raster, PathType type, Rgb value) {
             c.splats.push_back({raster, type, value});
         };
         for (uint64_t i = 0; i < steps; ++i) {
             if ((i & 63) == 0) ctx_.throwIfCancelled();
-            if (c.markov.step(splat)) c.lastMove = c.done + i + 1;
+            if (c.markov.step(splat)) {
+                c.lastMove = c.done + i + 1;
+                c.leftStartType = c.leftStartType || c.markov.state().type != c.startType;
+            }
         }
         c.done += steps;
         progress.advance(double(steps));
     });
+}
+
+uint64_t ChainRunner::typeBoundChains(int group) const {
+    uint64_t bound = 0;
+    for (const auto& c : chains_)
+        if ((group < 0 || c->plan.group == uint32_t(group)) && c->done > 0 && !c->leftStartType)
+            ++bound;
+    return bound;
 }
 
 uint64_t ChainRunner::stuckChains(int group) const {

@@ -59,6 +59,10 @@ class ChainRunner {
     /// Chains (of a group if >= 0) that moved in none of the last half of their mutations so
     /// far: stuck on a path no proposal leaves (issue #22 2). Burn-in does not count.
     uint64_t stuckChains(int group = -1) const;
+    /// Chains (of a group if >= 0) whose path has kept its start's type for every mutation so
+    /// far: a chain can move and still never leave a region of path space (a path between
+    /// specular chains that only small perturbations change, issue #22 2).
+    uint64_t typeBoundChains(int group = -1) const;
     uint64_t rays() const;
 
   private:

@@ -18,6 +18,7 @@ ShardWork chainShardWork(ChainRunner& runner, const ChainPlan& plan) {
     }
     work.sums["rays"] = double(runner.rays());
     work.sums["stuck_chains"] = double(runner.stuckChains());
+    work.sums["type_bound_chains"] = double(runner.typeBoundChains());
     for (const auto& [name, m] : runner.mutationStats()) {
         work.sums["proposed_" + name] = double(m.proposed);
         work.sums["accepted_" + name] = double(m.accepted);

@@ -304,6 +304,7 @@ TEST(Mlt, StuckChainsAreCountedForEveryMcmcAlgorithm) {
         RenderResult r = test::renderWith(scene, algorithm, st);
         ASSERT_EQ(r.stats.values.count("stuck_chains"), 1u) << algorithm;
         EXPECT_EQ(r.stats.values["stuck_chains"], 0.0) << algorithm;
+        ASSERT_EQ(r.stats.values.count("type_bound_chains"), 1u) << algorithm;
         EXPECT_GT(r.stats.values["chains"], 0.0) << algorithm;
         if (std::string(algorithm) != "mlt") {
             EXPECT_EQ(r.stats.values.count("partition_0_stuck_chains"), 1u) << algorithm;
@@ -326,6 +327,12 @@ TEST(Mlt, StuckChainsAreCountedForEveryMcmcAlgorithm) {
     RenderResult stuck = MltAlgorithm(causticOnly).render(ctx);
     EXPECT_GT(stuck.stats.values["chains"], 0.0);
     EXPECT_EQ(stuck.stats.values["stuck_chains"], stuck.stats.values["chains"]);
+    EXPECT_EQ(stuck.stats.values["type_bound_chains"], stuck.stats.values["chains"]);
+    // With Veach's mutations the chains on the box change their path's length, and so its type:
+    // some leave their start's type (fixed seed: 27 of 48 keep it at this short budget).
+    RenderResult moving = test::renderWith(scene, "mlt", st);
+    EXPECT_LT(moving.stats.values["type_bound_chains"], moving.stats.values["chains"]);
+    EXPECT_GT(moving.stats.values["type_bound_chains"], 0.0);
 }
 
 TEST(Mlt, ATimeBudgetsBootstrapStopsAtItsShare) {
