@@ -16,14 +16,14 @@ bool isBudget(const std::string& name) {
     return name == "spp" || name == "mpp" || name == "seconds";
 }
 
-/// The declaration of `name` for `algorithm` in this build, or null (an algorithm or a
+/// The declaration of `name` for `algorithm` in this build (nullopt: an algorithm or a
 /// parameter only the server knows).
-const ParameterSpec* declaration(const std::string& name, const std::string& algorithm,
-                                 std::vector<ParameterSpec>& specs) {
+std::optional<ParameterSpec> declaration(const std::string& name, const std::string& algorithm) {
     registerBuiltinAlgorithms();
     const auto* entry = AlgorithmRegistry::instance().find(algorithm);
-    specs = entry ? jobParameterSpecs(*entry) : sharedParameters().specs();
-    return findParameter(specs, canonicalName(name));
+    auto specs = entry ? jobParameterSpecs(*entry) : sharedParameters().specs();
+    const ParameterSpec* spec = findParameter(specs, canonicalName(name));
+    return spec ? std::optional<ParameterSpec>(*spec) : std::nullopt;
 }
 
 /// "" when `value` reads as a value of the axis, else why not.
@@ -36,12 +36,10 @@ std::string checkValue(const std::string& name, const std::string& value,
                    ? ""
                    : "'" + value + "' is not a number";
     }
-    std::vector<ParameterSpec> specs;
-    const ParameterSpec* spec = declaration(name, algorithm, specs);
+    std::optional<ParameterSpec> spec = declaration(name, algorithm);
     if (!spec) return "";
     std::string error;
-    std::optional<ParameterValue> v = parseParameter(*spec, value, error);
-    if (v) error = checkParameter(*spec, *v);
+    acceptParameter(*spec, value, error);
     return error;
 }
 

@@ -12,18 +12,12 @@ std::string nameList(const std::vector<ParameterSpec>& specs) {
     return out.empty() ? "none" : out;
 }
 
-/// The value in spec's type and within its rules, or an error line.
+/// acceptParameter as "" or the error line, the value in `out`.
 std::string convert(const ParameterSpec& spec, const ParameterValue& given, ParameterValue& out) {
-    if (std::holds_alternative<std::monostate>(given)) {
-        out = spec.defaultValue;
-        return "";
-    }
     std::string error;
-    std::optional<ParameterValue> v = coerceParameter(spec, given, error);
-    if (!v) return error;
-    if (std::string why = checkParameter(spec, *v); !why.empty()) return why;
-    out = std::move(*v);
-    return "";
+    std::optional<ParameterValue> v = acceptParameter(spec, given, error);
+    if (v) out = std::move(*v);
+    return error;
 }
 
 std::string unknown(const AlgorithmRegistry::Entry& entry, const std::string& name) {
@@ -53,15 +47,10 @@ std::vector<ParameterSpec> jobParameterSpecs(const AlgorithmRegistry::Entry& ent
 
 std::string applyJobParameters(const AlgorithmRegistry::Entry& entry, const ParameterValues& given,
                                RenderSettings& settings) {
-    const auto& shared = sharedParameters();
     for (const auto& [written, value] : given) {
         std::string name = canonicalName(written);
         ParameterValue v;
-        if (const auto* e = [&]() -> const SettingsTable<RenderSettings>::Entry* {
-                for (const auto& x : shared.entries())
-                    if (x.spec.name == name) return &x;
-                return nullptr;
-            }()) {
+        if (const auto* e = sharedParameters().find(name)) {
             if (std::string why = convert(e->spec, value, v); !why.empty()) return why;
             e->set(settings, v);
         } else if (const ParameterSpec* spec = findParameter(entry.parameters, name)) {

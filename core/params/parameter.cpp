@@ -303,6 +303,16 @@ std::string checkParameter(const ParameterSpec& spec, const ParameterValue& valu
     return why;
 }
 
+std::optional<ParameterValue> acceptParameter(const ParameterSpec& spec,
+                                              const ParameterValue& given, std::string& error) {
+    if (std::holds_alternative<std::monostate>(given)) return spec.defaultValue;
+    std::optional<ParameterValue> v = coerceParameter(spec, given, error);
+    if (!v) return std::nullopt;
+    error = checkParameter(spec, *v);
+    if (!error.empty()) return std::nullopt;
+    return v;
+}
+
 std::string describeRange(const ParameterSpec& spec) {
     if (spec.type == ParameterType::Choice) {
         std::string out;

@@ -92,6 +92,12 @@ std::optional<ParameterValue> coerceParameter(const ParameterSpec& spec,
 /// parameter and the rule: "radius = 0 is outside (0, 4096] pixels".
 std::string checkParameter(const ParameterSpec& spec, const ParameterValue& value);
 
+/// What a given value means for spec: converted to its type (coerceParameter) and checked
+/// (checkParameter); unset (monostate) is the default. nullopt with `error` when refused. The
+/// one reading of a given value that every front end and the daemon share.
+std::optional<ParameterValue> acceptParameter(const ParameterSpec& spec,
+                                              const ParameterValue& given, std::string& error);
+
 /// The rule as text: "(0, 4096]", "auto | pt | bdpt", "any"; for --help and error messages.
 std::string describeRange(const ParameterSpec& spec);
 

@@ -106,6 +106,13 @@ class SettingsTable {
 
     const std::vector<ParameterSpec>& specs() const { return specs_; }
 
+    /// The binding of the parameter called `name`, or null.
+    const auto* find(std::string_view name) const {
+        for (const auto& e : entries_)
+            if (e.spec.name == name) return &e;
+        return static_cast<const Entry*>(nullptr);
+    }
+
     /// `settings` with every declared parameter that `values` gives applied (converted to the
     /// declared type and checked); names it does not declare are left to the caller. Throws
     /// std::invalid_argument with checkParameter's line for a bad value.
@@ -113,14 +120,9 @@ class SettingsTable {
         for (const auto& e : entries_) {
             const ParameterValue* given = values.find(e.spec.name);
             if (!given) continue;
-            if (std::holds_alternative<std::monostate>(*given)) {  // unset: the default
-                e.set(settings, e.spec.defaultValue);
-                continue;
-            }
             std::string error;
-            std::optional<ParameterValue> v = coerceParameter(e.spec, *given, error);
-            if (v) error = checkParameter(e.spec, *v);
-            if (!v || !error.empty()) throw std::invalid_argument(error);
+            std::optional<ParameterValue> v = acceptParameter(e.spec, *given, error);
+            if (!v) throw std::invalid_argument(error);
             e.set(settings, *v);
         }
         return settings;

@@ -30,15 +30,14 @@ std::string flagHelp(const ParameterSpec& spec, const std::string& takenBy) {
 }
 
 /// Applies a shared parameter's text to `settings` at once, with the core's rule for it.
+/// (Nothing for a name that is not a shared parameter.)
 void applyShared(const std::string& name, const std::string& text, RenderOptions& o) {
-    for (const auto& e : sharedParameters().entries()) {
-        if (e.spec.name != name) continue;
-        std::string error;
-        std::optional<ParameterValue> v = parseParameter(e.spec, text, error);
-        if (v) error = checkParameter(e.spec, *v);
-        if (!error.empty()) throw CLI::ValidationError("--" + flagName(name), error);
-        e.set(o.settings, *v);
-    }
+    const auto* e = sharedParameters().find(name);
+    if (!e) return;
+    std::string error;
+    std::optional<ParameterValue> v = acceptParameter(e->spec, text, error);
+    if (!v) throw CLI::ValidationError("--" + flagName(name), error);
+    e->set(o.settings, *v);
 }
 
 /// What --help shows for a value of `spec`: INT, REAL, auto|pt|bdpt, R,G,B, ...
@@ -92,7 +91,7 @@ void addGenericParameter(CLI::App& app, RenderOptions& o) {
                    std::string name = canonicalName(item.substr(0, eq));
                    std::string text = item.substr(eq + 1);
                    o.given.set(name, text);
-                   if (findParameter(sharedParameters().specs(), name)) applyShared(name, text, o);
+                   applyShared(name, text, o);
                }
            },
            "any declared parameter by name, e.g. --param radius=10 (repeatable; see --help with "
