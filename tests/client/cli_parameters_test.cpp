@@ -49,10 +49,11 @@ TEST(Parameters, ATestAlgorithmsParameterReachesTheFlagsAndTheirHelp) {
 
     RenderOptions given;
     ASSERT_EQ(parseRender({"--algorithm", kAlgorithm, "--strength", "3"}, given), "");
-    EXPECT_EQ(given.settings.parameters.find("strength") != nullptr, true);
+    ASSERT_NE(given.settings.parameters.find("strength"), nullptr);
     EXPECT_EQ(std::get<double>(*given.settings.parameters.find("strength")), 3.0);
     RenderOptions generic;
     ASSERT_EQ(parseRender({"--algorithm", kAlgorithm, "--param", "strength=2.5"}, generic), "");
+    ASSERT_NE(generic.settings.parameters.find("strength"), nullptr);
     EXPECT_EQ(std::get<double>(*generic.settings.parameters.find("strength")), 2.5);
     RenderOptions bad;
     EXPECT_EQ(parseRender({"--algorithm", kAlgorithm, "--strength", "11"}, bad),

@@ -112,7 +112,8 @@ TEST(Parameters, ResolveAppliesGivenValuesOverTheDefaults) {
     EXPECT_EQ(t.mode, "slow");
     EXPECT_EQ(t.tint, (std::array<float, 3>{0, 0, 1}));
     EXPECT_EQ(t.scale, 0.01f) << "what is not given keeps its default";
-    EXPECT_EQ(toyTable().values(t).find("count") != nullptr, true);
+    ASSERT_NE(toyTable().values(t).find("count"), nullptr);
+    EXPECT_EQ(std::get<int64_t>(*toyTable().values(t).find("count")), 5);
     given.set("count", 11);
     try {
         toyTable().resolve(given);
