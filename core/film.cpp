@@ -1,6 +1,7 @@
-// Film storage: a grid of kTileSize x kTileSize tiles. Every tile owns its combined RGB sums and
-// per-type sums for the types that reached it. Edge tiles are allocated full size so that the
-// hot path indexes without clipping.
+// Film storage: a grid of kTileSize x kTileSize tiles. Every tile owns its combined RGB sums,
+// per-type sums for the kept types (type_layers.h) that reached it, and one "other" buffer for
+// every type that is not kept. Edge tiles are allocated full size so that the hot path indexes
+// without clipping.
 //
 // Per-type sums are sparse twice over. A tile keeps only the types that reached it, found through
 // a small hash table (the shipped scenes produce thousands of types, hundreds per tile, so a
@@ -123,9 +124,10 @@ struct alignas(64) Film::Tile {
     };
 
     TilePixels combined{};
-    std::vector<TypeBuffer> types;
-    std::vector<uint32_t> slots;  // open addressing over `types`: 0 = empty, else index + 1
-    int slotShift = 64;           // 64 - log2(slots.size())
+    std::vector<TypeBuffer> types;  // kept types that reached the tile
+    TypeBuffer other;               // every type the film's TypeLayers does not keep
+    std::vector<uint32_t> slots;    // open addressing over `types`: 0 = empty, else index + 1
+    int slotShift = 64;             // 64 - log2(slots.size())
     BlockArena arena;
     // In front of the hash table, per number of scattering vertices, the index into `types` of
     // the last type used with that count: a path reports types of increasing length, so this
@@ -133,9 +135,11 @@ struct alignas(64) Film::Tile {
     // alternate.
     std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
 
-    TypeBuffer& bufferFor(PathType type) {
+    /// The buffer of `type`: its own when `layers` keeps it, else "other".
+    TypeBuffer& bufferFor(PathType type, const TypeLayers& layers) {
         uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
         if (last < types.size() && types[last].type == type) return types[last];
+        if (!layers.keeps(type)) return other;
         TypeBuffer& t = find(type);
         last = uint32_t(&t - types.data());
         return t;
@@ -165,6 +169,7 @@ struct alignas(64) Film::Tile {
     void clear() {
         combined.fill(FixedRgb{});
         types.clear();
+        other = TypeBuffer{};
         slots.clear();
         slotShift = 64;
         arena.clear();
@@ -211,7 +216,11 @@ struct alignas(64) Film::Tile {
     }
 };
 
-Film::Film(int width, int height) : width_(width), height_(height) {
+Film::Film(int width, int height, TypeLayers layers)
+    : width_(width),
+      height_(height),
+      layers_(std::move(layers)),
+      typeBuffers_(!layers_.keepsNone()) {
     if (width < 0 || height < 0)
         throw std::invalid_argument("Film: negative size " + std::to_string(width) + "x" +
                                     std::to_string(height));
@@ -224,6 +233,8 @@ Film::~Film() = default;
 Film::Film(Film&& o) noexcept
     : width_(o.width_),
       height_(o.height_),
+      layers_(o.layers_),
+      typeBuffers_(o.typeBuffers_),
       tiles_(std::move(o.tiles_)),
       dropped_(o.dropped_.load()) {
     o.width_ = o.height_ = 0;
@@ -235,6 +246,8 @@ Film& Film::operator=(Film&& o) noexcept {
     if (this != &o) {
         width_ = o.width_;
         height_ = o.height_;
+        layers_ = o.layers_;
+        typeBuffers_ = o.typeBuffers_;
         tiles_ = std::move(o.tiles_);
         dropped_ = o.dropped_.load();
         o.width_ = o.height_ = 0;
@@ -274,7 +287,8 @@ void Film::Pixel::add(PathType type, Rgb value) {
     if (isBlack(value)) return;
     const FixedRgb fixed = FixedRgb::of(value);
     tile_->combined[size_t(index_)] += fixed;
-    tile_->sumAt(tile_->bufferFor(type), index_) += fixed;
+    // A film that keeps no type has no "other" either: it would repeat the combined sums.
+    if (film_->typeBuffers_) tile_->sumAt(tile_->bufferFor(type, film_->layers_), index_) += fixed;
 }
 
 void Film::merge(const Film& other) {
@@ -283,14 +297,19 @@ void Film::merge(const Film& other) {
                                     std::to_string(height_) + " vs " +
                                     std::to_string(other.width_) + "x" +
                                     std::to_string(other.height_) + ")");
+    if (!(other.layers_ == layers_))
+        throw std::invalid_argument("Film::merge: the films keep different type layers");
     if (&other == this) {
         // Doubling in place: adding a film to itself.
         for (auto& tile : tiles_) {
             for (auto& p : tile->combined) p += p;
-            for (auto& t : tile->types)
+            auto doubleBuffer = [](Tile::TypeBuffer& t) {
                 for (Block* b : t.blocks)
                     if (b)
                         for (auto& p : *b) p += p;
+            };
+            for (auto& t : tile->types) doubleBuffer(t);
+            doubleBuffer(tile->other);
         }
         dropped_ += dropped_.load();
         return;
@@ -299,11 +318,12 @@ void Film::merge(const Film& other) {
         Tile& dst = *tiles_[ti];
         const Tile& src = *other.tiles_[ti];
         for (int i = 0; i < kTilePixels; ++i) dst.combined[i] += src.combined[i];
-        for (const auto& t : src.types) {
-            Tile::TypeBuffer& d = dst.bufferFor(t.type);
-            Tile::forEachSum(t, kTileSize, kTileSize,
-                             [&](int i, const FixedRgb& v) { dst.sumAt(d, i) += v; });
-        }
+        auto add = [&](const Tile::TypeBuffer& from, Tile::TypeBuffer& to) {
+            Tile::forEachSum(from, kTileSize, kTileSize,
+                             [&](int i, const FixedRgb& v) { dst.sumAt(to, i) += v; });
+        };
+        for (const auto& t : src.types) add(t, dst.bufferFor(t.type, layers_));
+        add(src.other, dst.other);
     }
     dropped_.fetch_add(other.dropped_.load(), std::memory_order_relaxed);
 }
@@ -325,33 +345,30 @@ Image Film::resolveCombined(float scale) const {
     return img;
 }
 
-LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) const {
-    // Every step below is either per tile (each tile writes only its own pixels or its own
-    // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
-    // for bit with or without a pool and however the tasks land on threads.
-    auto forEach = [pool](size_t count, const std::function<void(size_t)>& body) {
-        if (pool && count > 1) {
-            pool->parallelFor(count, body);
-        } else {
-            for (size_t i = 0; i < count; ++i) body(i);
-        }
-    };
-    const int tx = tilesX();
-    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
-        x0 = int(ti % size_t(tx)) * kTileSize;
-        y0 = int(ti / size_t(tx)) * kTileSize;
-        w = std::min(kTileSize, width_ - x0);
-        h = std::min(kTileSize, height_ - y0);
-    };
+namespace {
 
-    // Total luminance per type: per tile (in parallel), then summed over tiles in tile order.
-    // std::map keeps the types in PathType order, and the sums run over tiles and pixels in a
-    // fixed order, so the totals do not depend on insertion order.
+/// body(i) for i < count, on the pool's threads when there is one. Callers make every body
+/// write only its own entries, so the result is the same with or without a pool.
+void forEachIndex(ThreadPool* pool, size_t count, const std::function<void(size_t)>& body) {
+    if (pool && count > 1) {
+        pool->parallelFor(count, body);
+    } else {
+        for (size_t i = 0; i < count; ++i) body(i);
+    }
+}
+
+}  // namespace
+
+std::map<PathType, double> Film::typeLuminance(ThreadPool* pool) const {
+    // Per tile (in parallel), then summed over tiles in tile order. std::map keeps the types in
+    // PathType order, and the sums run over tiles and pixels in a fixed order, so the totals do
+    // not depend on the order in which types reached a tile.
     std::vector<std::vector<std::pair<PathType, double>>> tileTotals(tiles_.size());
-    forEach(tiles_.size(), [&](size_t ti) {
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        int x0, y0, w, h;
-        tileRect(ti, x0, y0, w, h);
+        const int x0 = int(ti % size_t(tilesX())) * kTileSize;
+        const int y0 = int(ti / size_t(tilesX())) * kTileSize;
+        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
         auto& sums = tileTotals[ti];
         sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
@@ -364,13 +381,31 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     std::map<PathType, double> totals;
     for (const auto& sums : tileTotals)  // a type occurs at most once per tile
         for (const auto& [type, sum] : sums) totals[type] += sum;
+    return totals;
+}
+
+LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) const {
+    // Every step below is either per tile (each tile writes only its own pixels or its own
+    // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
+    // for bit with or without a pool and however the tasks land on threads.
+    const int tx = tilesX();
+    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
+        x0 = int(ti % size_t(tx)) * kTileSize;
+        y0 = int(ti / size_t(tx)) * kTileSize;
+        w = std::min(kTileSize, width_ - x0);
+        h = std::min(kTileSize, height_ - y0);
+    };
 
     // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
+    const std::map<PathType, double> totals = typeLuminance(pool);
     std::vector<std::pair<PathType, double>> ranked(totals.begin(), totals.end());
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.second > b.second; });
     const size_t keep = std::min(ranked.size(), size_t(std::max(0, maxTypeLayers)));
-    const bool hasOther = ranked.size() > keep;
+    bool otherBuffers = false;  // a type the film does not keep reached some tile
+    for (const auto& tile : tiles_)
+        for (const Block* b : tile->other.blocks) otherBuffers |= b != nullptr;
+    const bool hasOther = ranked.size() > keep || otherBuffers;
 
     // Layer index per type: 0..keep-1 for the kept types, `keep` for "other".
     std::map<PathType, size_t> layerOf;
@@ -379,12 +414,13 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     // The images, zeroed in parallel (most of the cost of a fresh image is touching its pages).
     LayeredImage out;
     std::vector<Image> layers(keep + (hasOther ? 1 : 0));
-    forEach(layers.size() + 1,
-            [&](size_t i) { (i == 0 ? out.combined : layers[i - 1]) = Image(width_, height_); });
+    forEachIndex(pool, layers.size() + 1, [&](size_t i) {
+        (i == 0 ? out.combined : layers[i - 1]) = Image(width_, height_);
+    });
 
     // Per tile: the combined image, the unscaled layer sums, then every layer pixel of the tile
     // scaled (as scaling whole images after summing: the same operations per pixel).
-    forEach(tiles_.size(), [&](size_t ti) {
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
         int x0, y0, w, h;
         tileRect(ti, x0, y0, w, h);
@@ -392,18 +428,20 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
             for (int x = 0; x < w; ++x)
                 out.combined.set(x0 + x, y0 + y,
                                  tile.combined[size_t(y * kTileSize + x)].rgb() * scale);
-        // Visit the tile's types in PathType order so that "other" sums in a fixed order.
+        auto addBuffer = [&](const Tile::TypeBuffer& t, Image& dst) {
+            Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
+                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
+            });
+        };
+        // Visit the tile's types in PathType order so that "other" sums in a fixed order, the
+        // types the film does not keep last.
         std::vector<const Tile::TypeBuffer*> sorted;
         sorted.reserve(tile.types.size());
         for (const auto& t : tile.types) sorted.push_back(&t);
         std::sort(sorted.begin(), sorted.end(),
                   [](const auto* a, const auto* b) { return a->type < b->type; });
-        for (const auto* t : sorted) {
-            Image& dst = layers[layerOf.at(t->type)];
-            Tile::forEachSum(*t, w, h, [&](int i, const FixedRgb& v) {
-                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
-            });
-        }
+        for (const auto* t : sorted) addBuffer(*t, layers[layerOf.at(t->type)]);
+        if (hasOther) addBuffer(tile.other, layers[keep]);
         for (auto& img : layers)
             for (int y = y0; y < y0 + h; ++y) {
                 float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
@@ -426,11 +464,21 @@ size_t Film::typeCount() const {
     return size_t(std::unique(all.begin(), all.end()) - all.begin());
 }
 
+size_t Film::maxBuffersPerTile() const {
+    size_t most = 0;
+    for (const auto& tile : tiles_) {
+        bool other = false;
+        for (const Block* b : tile->other.blocks) other |= b != nullptr;
+        most = std::max(most, 1 + tile->types.size() + (other ? 1 : 0));
+    }
+    return most;
+}
+
 uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_relaxed); }
 
 namespace {
 constexpr uint32_t kFilmMagic = 0x4d4c4650;  // "PFLM"
-constexpr uint32_t kFilmVersion = 2;         // 2: sums as zigzag varints (a third of the bytes)
+constexpr uint32_t kFilmVersion = 3;  // 2: sums as zigzag varints; 3: type layers and "other"
 
 void putSums(ByteWriter& w, const FixedRgb* sums, size_t count) {
     for (size_t i = 0; i < count; ++i)
@@ -441,17 +489,38 @@ void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
         for (uint64_t& c : sums[i].c) c = uint64_t(r.getSignedVarint());
 }
 
+// Blocks of one buffer: a bit mask of the allocated ones, then those blocks' sums.
+void putBlocks(ByteWriter& w, const std::array<Block*, kTileBlocks>& blocks) {
+    static_assert(kTileBlocks == 16, "the block mask is 16 bits");
+    uint16_t mask = 0;
+    for (size_t b = 0; b < blocks.size(); ++b)
+        if (blocks[b]) mask = uint16_t(mask | (1u << b));
+    w.put(mask);
+    for (const Block* b : blocks)
+        if (b) putSums(w, b->data(), b->size());
+}
+void getBlocks(ByteReader& r, std::array<Block*, kTileBlocks>& blocks, BlockArena& arena) {
+    const uint16_t mask = r.get<uint16_t>();
+    for (size_t b = 0; b < blocks.size(); ++b) {
+        if (!((mask >> b) & 1u)) continue;
+        blocks[b] = arena.allocate();
+        getSums(r, blocks[b]->data(), blocks[b]->size());
+    }
+}
+
 }  // namespace
 
-// Per tile: the combined sums, then the tile's types in PathType order (so that the bytes do
-// not depend on the order in which types reached it), each with a bit mask of its allocated
-// blocks and those blocks. Sums are zigzag varints: most are zero or far below 2^63.
+// The type layers, then per tile: the combined sums, the tile's types in PathType order (so that
+// the bytes do not depend on the order in which types reached it), each with its blocks, and the
+// "other" buffer's blocks. Sums are zigzag varints: most are zero or far below 2^63.
 std::vector<uint8_t> Film::serialize() const {
     ByteWriter w;
+    w.bytes.reserve(size_t(width_) * size_t(height_) * 3 + 64);  // combined sums: >= 1 B each
     w.putHeader(kFilmMagic, kFilmVersion);
     w.put(int32_t(width_));
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
+    layers_.serialize(w);
     for (const auto& tile : tiles_) {
         putSums(w, tile->combined.data(), tile->combined.size());
         std::vector<const Tile::TypeBuffer*> sorted;
@@ -461,25 +530,21 @@ std::vector<uint8_t> Film::serialize() const {
         w.put(uint32_t(sorted.size()));
         for (const auto* t : sorted) {
             putPathType(w, t->type);
-            uint16_t mask = 0;
-            for (size_t b = 0; b < t->blocks.size(); ++b)
-                if (t->blocks[b]) mask = uint16_t(mask | (1u << b));
-            w.put(mask);
-            for (const Block* b : t->blocks)
-                if (b) putSums(w, b->data(), b->size());
+            putBlocks(w, t->blocks);
         }
+        putBlocks(w, tile->other.blocks);
     }
     return std::move(w.bytes);
 }
 
 Film Film::deserialize(std::span<const uint8_t> bytes) {
-    static_assert(kTileBlocks == 16, "the block mask is 16 bits");
     ByteReader r(bytes, "film");
     r.expectHeader(kFilmMagic, kFilmVersion, "film");
     int32_t w = r.get<int32_t>(), h = r.get<int32_t>();
     if (w < 0 || h < 0 || int64_t(w) * h > (int64_t(1) << 28)) r.fail("bad size");
-    Film film(w, h);
-    film.dropped_ = r.get<uint64_t>();
+    const uint64_t dropped = r.get<uint64_t>();
+    Film film(w, h, TypeLayers::deserialize(r));
+    film.dropped_ = dropped;
     for (auto& tile : film.tiles_) {
         getSums(r, tile->combined.data(), tile->combined.size());
         uint32_t types = r.get<uint32_t>();
@@ -487,14 +552,10 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
             const PathType type = getPathType(r);
             if (!tile->types.empty() && !(tile->types.back().type < type))
                 r.fail("types out of order");
-            Tile::TypeBuffer& buffer = tile->bufferFor(type);
-            uint16_t mask = r.get<uint16_t>();
-            for (size_t b = 0; b < buffer.blocks.size(); ++b) {
-                if (!((mask >> b) & 1u)) continue;
-                buffer.blocks[b] = tile->arena.allocate();
-                getSums(r, buffer.blocks[b]->data(), buffer.blocks[b]->size());
-            }
+            if (!film.layers_.keeps(type)) r.fail("a type the film does not keep");
+            getBlocks(r, tile->bufferFor(type, film.layers_).blocks, tile->arena);
         }
+        getBlocks(r, tile->other.blocks, tile->arena);
     }
     if (!r.atEnd()) r.fail("trailing bytes");
     return film;

@@ -41,16 +41,24 @@ class SamplePassRenderer {
     virtual Film takeFilm() { return film(); }
 };
 
+/// Makes an integrator's renderer for ctx, its film keeping `layers` (type_layers.h).
+using SamplePassFactory = std::function<std::unique_ptr<SamplePassRenderer>(
+    const RenderContext& ctx, const TypeLayers& layers)>;
+
 /// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress.
 RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer);
 
+/// A whole render: the type layers from the survey (layer_survey.h), then the renderer the
+/// factory makes for them, run by runSamplePasses.
+RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory);
+
 /// The shards of a sample-based integrator: shard i of n renders a contiguous range of sample
 /// indices of every pixel (shareRange of the samples per pixel). Every (pixel, sample) has its
-/// own random stream and the film sums exactly, so the merged film is the one-process film.
+/// own random stream and the film sums exactly, so the merged film is the one-process film. The
+/// plan is the type layers (chosen once, by the survey).
 class SamplePassShards : public Shardable {
   public:
-    using Factory = std::function<std::unique_ptr<SamplePassRenderer>(const RenderContext&)>;
-    explicit SamplePassShards(Factory factory) : factory_(std::move(factory)) {}
+    explicit SamplePassShards(SamplePassFactory factory) : factory_(std::move(factory)) {}
     std::vector<uint8_t> plan(const RenderContext& ctx) override;
     ShardWork renderShard(const RenderContext& ctx, std::span<const uint8_t> plan, uint32_t shard,
                           uint32_t shards) override;
@@ -59,7 +67,7 @@ class SamplePassShards : public Shardable {
     uint32_t maxShards(const RenderContext& ctx, std::span<const uint8_t> plan) const override;
 
   private:
-    Factory factory_;
+    SamplePassFactory factory_;
 };
 
 }  // namespace partita

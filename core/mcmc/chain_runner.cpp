@@ -40,7 +40,7 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
     : ctx_(ctx), plan_(plan), roundMutations_(std::max<uint64_t>(1, roundMutations)) {
     int w = ctx.settings.width, h = ctx.settings.height;
     for (size_t g = 0; g < plan.groups.size(); ++g) {
-        films_.emplace_back(w, h);
+        films_.emplace_back(w, h, plan.layers);
         splatBuffers_.emplace_back(w, h);
     }
     for (const PlannedChain& c : plan.chains) {

@@ -1,6 +1,7 @@
 #include "integrators/mlt/mlt_integrator.h"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
 #include "camera.h"
@@ -16,6 +17,7 @@
 #include "sample_waves.h"
 #include "share_range.h"
 #include "thread_pool.h"
+#include "type_layer_rule.h"
 
 namespace partita {
 
@@ -63,12 +65,21 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
     return r;
 }
 
+TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
+                               const std::vector<BootstrapCandidate>& candidates) {
+    std::map<PathType, double> weights;
+    if (needsTypeWeights(settings))
+        for (const BootstrapCandidate& c : candidates) weights[c.type] += double(c.weight);
+    return chooseTypeLayers(settings, weights);
+}
+
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
                         const BootstrapResult& bootstrap, int chains, uint64_t mutations) {
     ChainPlan plan;
     plan.seed = ctx.settings.seed;
     plan.bootstrapSamples = bootstrap.samples;
     plan.groups.push_back({"all", bootstrap.b});
+    plan.layers = bootstrapTypeLayers(ctx.settings, bootstrap.candidates);
     Rng rng(ctx.settings.seed, kResampleStream);
     std::vector<size_t> starts = resampleCandidates(bootstrap.candidates, size_t(chains), rng);
     for (size_t k = 0; k < starts.size(); ++k) {

@@ -36,8 +36,13 @@ struct BootstrapResult {
 BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
                              uint64_t samples, Deadline deadline = kNoDeadline);
 
+/// The type layers of an mlt render (type_layer_rule.h): the weights are the bootstrap
+/// candidates' weight sums per type (each type's share of b).
+TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
+                               const std::vector<BootstrapCandidate>& candidates);
+
 /// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
-/// resampled from the bootstrap.
+/// resampled from the bootstrap, their film keeping bootstrapTypeLayers.
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
                         const BootstrapResult& bootstrap, int chains, uint64_t mutations);
 
