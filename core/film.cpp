@@ -5,10 +5,11 @@
 //
 // Per-type sums are sparse twice over. A tile keeps only the types that reached it, found through
 // a small hash table (the shipped scenes produce thousands of types, hundreds per tile, so a
-// linear search was a hot spot). And a type's sums live in 4 x 4 pixel blocks, allocated from a
-// per-tile arena when the first sample of that type lands in the block: most types are rare,
-// and a full tile buffer per (tile, type) cost hundreds of megabytes, and the page faults of
-// touching them cost a tenth of the render time.
+// linear search was a hot spot). And a type's sums live in 4 x 4 pixel blocks, allocated when
+// the first sample of that type lands in the block: most types are rare, and a full tile buffer
+// per (tile, type) cost hundreds of megabytes, and the page faults of touching them cost a tenth
+// of the render time. A type's blocks (of every tile) come from one pool of its own, so a
+// layer's memory can be given back at once (takeResolved).
 //
 // Exact sums: a pixel's sums are 64-bit fixed-point integers (Film::kFixedPointBits fraction
 // bits). Every sample is rounded once, on its own, to that grid, and integers add exactly, so a
@@ -30,10 +31,14 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -88,39 +93,62 @@ size_t offsetInBlock(int i) {
     return (y % kBlockSide) * kBlockSide + x % kBlockSide;
 }
 
-/// Zeroed blocks carved out of larger chunks: one allocation per kChunkBlocks blocks, all freed
-/// together. Blocks never move. Chunks are cache-line aligned (a block is three lines), so two
-/// tiles written by different threads never share a line.
-class BlockArena {
+/// Zeroed blocks of one buffer kind (one path type, or "other") across every tile, carved out of
+/// chunks that grow from 4 to 512 blocks; freed all at once, so that the consuming resolve
+/// (Film::takeResolved) gives a layer's memory back as soon as its image is made. Blocks never
+/// move. A block is six cache lines and chunks are line-aligned, so blocks of two tiles written
+/// by different threads never share a line. Thread-safe: the path tracer's threads allocate in
+/// different tiles at once (rarely: a block is allocated once per tile and type).
+class BlockPool {
   public:
     Block* allocate() {
-        if (used_ == kChunkBlocks) {
-            chunks_.push_back(std::make_unique<Chunk>());  // value-initialised: zero
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (used_ == capacity_) {
+            capacity_ = chunks_.empty() ? 4 : std::min<size_t>(512, 2 * capacity_);
+            chunks_.push_back(std::make_unique<LineAlignedBlock[]>(capacity_));  // zeroed
             used_ = 0;
         }
-        return &chunks_.back()->blocks[size_t(used_++)];
+        return &chunks_.back()[used_++].block;
     }
-    void clear() {
+    /// Frees every block (their pointers must not be used again).
+    void release() {
+        std::lock_guard<std::mutex> lock(mutex_);
         chunks_.clear();
-        used_ = kChunkBlocks;
+        used_ = capacity_ = 0;
     }
 
   private:
-    static constexpr int kChunkBlocks = 32;  // 12 KiB
-    struct alignas(64) Chunk {
-        std::array<Block, kChunkBlocks> blocks{};
+    struct alignas(64) LineAlignedBlock {
+        Block block{};
     };
-    std::vector<std::unique_ptr<Chunk>> chunks_;
-    int used_ = kChunkBlocks;
+    static_assert(sizeof(LineAlignedBlock) == sizeof(Block));
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<LineAlignedBlock[]>> chunks_;
+    size_t used_ = 0, capacity_ = 0;
 };
 
 }  // namespace
+
+// The film's block pools: one per type that got a buffer somewhere, one for "other".
+struct Film::Pools {
+    std::mutex mutex;  // guards byType (tiles of several threads add types at once)
+    std::map<PathType, std::unique_ptr<BlockPool>> byType;
+    BlockPool other;
+
+    BlockPool& forType(PathType type) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::unique_ptr<BlockPool>& pool = byType[type];
+        if (!pool) pool = std::make_unique<BlockPool>();
+        return *pool;
+    }
+};
 
 // Aligned so that two tiles written by different threads never share a cache line.
 struct alignas(64) Film::Tile {
     struct TypeBuffer {
         PathType type;
         std::array<Block*, kTileBlocks> blocks{};  // null where no sample of the type landed
+        BlockPool* pool = nullptr;                 // where its blocks come from
     };
 
     TilePixels combined{};
@@ -128,7 +156,6 @@ struct alignas(64) Film::Tile {
     TypeBuffer other;               // every type the film's TypeLayers does not keep
     std::vector<uint32_t> slots;    // open addressing over `types`: 0 = empty, else index + 1
     int slotShift = 64;             // 64 - log2(slots.size())
-    BlockArena arena;
     // In front of the hash table, per number of scattering vertices, the index into `types` of
     // the last type used with that count: a path reports types of increasing length, so this
     // hits unless two types of equal length (differing in which vertices are specular)
@@ -136,11 +163,11 @@ struct alignas(64) Film::Tile {
     std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
 
     /// The buffer of `type`: its own when `layers` keeps it, else "other".
-    TypeBuffer& bufferFor(PathType type, const TypeLayers& layers) {
+    TypeBuffer& bufferFor(PathType type, const TypeLayers& layers, Pools& pools) {
         uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
         if (last < types.size() && types[last].type == type) return types[last];
         if (!layers.keeps(type)) return other;
-        TypeBuffer& t = find(type);
+        TypeBuffer& t = find(type, pools);
         last = uint32_t(&t - types.data());
         return t;
     }
@@ -148,7 +175,7 @@ struct alignas(64) Film::Tile {
     /// The sum of `t` at tile pixel i, its block allocated if needed.
     FixedRgb& sumAt(TypeBuffer& t, int i) {
         Block*& b = t.blocks[blockOf(i)];
-        if (!b) b = arena.allocate();
+        if (!b) b = t.pool->allocate();
         return (*b)[offsetInBlock(i)];
     }
 
@@ -166,19 +193,19 @@ struct alignas(64) Film::Tile {
             }
     }
 
-    void clear() {
+    void clear(Pools& pools) {
         combined.fill(FixedRgb{});
         types.clear();
         other = TypeBuffer{};
+        other.pool = &pools.other;
         slots.clear();
         slotShift = 64;
-        arena.clear();
         lastByLength.fill(0);
     }
 
   private:
     // The hash lookup (and insertion), kept out of line so that bufferFor's cache hit inlines.
-    [[gnu::noinline]] TypeBuffer& find(PathType type) {
+    [[gnu::noinline]] TypeBuffer& find(PathType type, Pools& pools) {
         if (!slots.empty()) {
             const size_t mask = slots.size() - 1;
             for (size_t s = slotOf(type);; s = (s + 1) & mask) {
@@ -187,7 +214,7 @@ struct alignas(64) Film::Tile {
                 if (types[e - 1].type == type) return types[e - 1];
             }
         }
-        types.push_back({type, {}});
+        types.push_back({type, {}, &pools.forType(type)});
         if (2 * types.size() > slots.size()) {
             rehash(std::max<size_t>(16, 4 * types.size()));
         } else {
@@ -220,12 +247,16 @@ Film::Film(int width, int height, TypeLayers layers)
     : width_(width),
       height_(height),
       layers_(std::move(layers)),
-      typeBuffers_(!layers_.keepsNone()) {
+      typeBuffers_(!layers_.keepsNone()),
+      pools_(std::make_unique<Pools>()) {
     if (width < 0 || height < 0)
         throw std::invalid_argument("Film: negative size " + std::to_string(width) + "x" +
                                     std::to_string(height));
     tiles_.resize(size_t(tilesX()) * tilesY());
-    for (auto& t : tiles_) t = std::make_unique<Tile>();
+    for (auto& t : tiles_) {
+        t = std::make_unique<Tile>();
+        t->other.pool = &pools_->other;
+    }
 }
 
 Film::~Film() = default;
@@ -235,6 +266,7 @@ Film::Film(Film&& o) noexcept
       height_(o.height_),
       layers_(o.layers_),
       typeBuffers_(o.typeBuffers_),
+      pools_(std::move(o.pools_)),
       tiles_(std::move(o.tiles_)),
       dropped_(o.dropped_.load()) {
     o.width_ = o.height_ = 0;
@@ -248,7 +280,8 @@ Film& Film::operator=(Film&& o) noexcept {
         height_ = o.height_;
         layers_ = o.layers_;
         typeBuffers_ = o.typeBuffers_;
-        tiles_ = std::move(o.tiles_);
+        tiles_ = std::move(o.tiles_);  // before the pools their buffers point into
+        pools_ = std::move(o.pools_);
         dropped_ = o.dropped_.load();
         o.width_ = o.height_ = 0;
         o.tiles_.clear();
@@ -288,7 +321,8 @@ void Film::Pixel::add(PathType type, Rgb value) {
     const FixedRgb fixed = FixedRgb::of(value);
     tile_->combined[size_t(index_)] += fixed;
     // A film that keeps no type has no "other" either: it would repeat the combined sums.
-    if (film_->typeBuffers_) tile_->sumAt(tile_->bufferFor(type, film_->layers_), index_) += fixed;
+    if (film_->typeBuffers_)
+        tile_->sumAt(tile_->bufferFor(type, film_->layers_, *film_->pools_), index_) += fixed;
 }
 
 void Film::merge(const Film& other) {
@@ -322,14 +356,16 @@ void Film::merge(const Film& other) {
             Tile::forEachSum(from, kTileSize, kTileSize,
                              [&](int i, const FixedRgb& v) { dst.sumAt(to, i) += v; });
         };
-        for (const auto& t : src.types) add(t, dst.bufferFor(t.type, layers_));
+        for (const auto& t : src.types) add(t, dst.bufferFor(t.type, layers_, *pools_));
         add(src.other, dst.other);
     }
     dropped_.fetch_add(other.dropped_.load(), std::memory_order_relaxed);
 }
 
 void Film::clear() {
-    for (auto& t : tiles_) t->clear();
+    auto fresh = std::make_unique<Pools>();
+    for (auto& t : tiles_) t->clear(*fresh);
+    pools_ = std::move(fresh);
     dropped_ = 0;
 }
 
@@ -396,20 +432,10 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
         h = std::min(kTileSize, height_ - y0);
     };
 
-    // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
-    const std::map<PathType, double> totals = typeLuminance(pool);
-    std::vector<std::pair<PathType, double>> ranked(totals.begin(), totals.end());
-    std::stable_sort(ranked.begin(), ranked.end(),
-                     [](const auto& a, const auto& b) { return a.second > b.second; });
-    const size_t keep = std::min(ranked.size(), size_t(std::max(0, maxTypeLayers)));
-    bool otherBuffers = false;  // a type the film does not keep reached some tile
-    for (const auto& tile : tiles_)
-        for (const Block* b : tile->other.blocks) otherBuffers |= b != nullptr;
-    const bool hasOther = ranked.size() > keep || otherBuffers;
-
-    // Layer index per type: 0..keep-1 for the kept types, `keep` for "other".
-    std::map<PathType, size_t> layerOf;
-    for (size_t i = 0; i < ranked.size(); ++i) layerOf[ranked[i].first] = std::min(i, keep);
+    const LayerOrder order = layerOrder(maxTypeLayers, pool);
+    const size_t keep = order.keep;
+    const bool hasOther = order.hasOther;
+    const std::map<PathType, size_t>& layerOf = order.layerOf;
 
     // The images, zeroed in parallel (most of the cost of a fresh image is touching its pages).
     LayeredImage out;
@@ -450,10 +476,87 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     });
 
     out.layers.reserve(layers.size());
-    for (size_t i = 0; i < keep; ++i)
-        out.layers.push_back({ranked[i].first.toString(), std::move(layers[i])});
-    if (hasOther) out.layers.push_back({kOtherLayer, std::move(layers[keep])});
+    for (size_t i = 0; i < layers.size(); ++i)
+        out.layers.push_back({order.name(i), std::move(layers[i])});
     return out;
+}
+
+Film::LayerOrder Film::layerOrder(int maxTypeLayers, ThreadPool* pool) const {
+    // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
+    const std::map<PathType, double> totals = typeLuminance(pool);
+    LayerOrder order;
+    order.ranked.assign(totals.begin(), totals.end());
+    std::stable_sort(order.ranked.begin(), order.ranked.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    order.keep = std::min(order.ranked.size(), size_t(std::max(0, maxTypeLayers)));
+    bool otherBuffers = false;  // a type the film does not keep reached some tile
+    for (const auto& tile : tiles_)
+        for (const Block* b : tile->other.blocks) otherBuffers |= b != nullptr;
+    order.hasOther = order.ranked.size() > order.keep || otherBuffers;
+    for (size_t i = 0; i < order.ranked.size(); ++i)
+        order.layerOf[order.ranked[i].first] = std::min(i, order.keep);
+    return order;
+}
+
+std::string Film::LayerOrder::name(size_t layer) const {
+    return layer < keep ? ranked[layer].first.toString() : std::string(kOtherLayer);
+}
+
+LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool) {
+    // resolve()'s image bit for bit (the same additions per pixel, in the same order), made one
+    // layer at a time; each layer's blocks are given back as soon as its image is made, so the
+    // peak is the film and one layer rather than the film and every layer.
+    const LayerOrder order = layerOrder(maxTypeLayers, pool);
+    const size_t layerCount = order.keep + (order.hasOther ? 1 : 0);
+    const int tx = tilesX();
+    // Per tile, its buffers by (layer, PathType): each layer's in the order resolve adds them.
+    std::vector<std::vector<std::pair<size_t, const Tile::TypeBuffer*>>> byLayer(tiles_.size());
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
+        auto& list = byLayer[ti];
+        for (const auto& t : tiles_[ti]->types) list.emplace_back(order.layerOf.at(t.type), &t);
+        std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
+            return a.first != b.first ? a.first < b.first : a.second->type < b.second->type;
+        });
+    });
+    LayeredImage out;
+    out.combined = resolveCombined(scale);
+    for (size_t layer = 0; layer < layerCount; ++layer) {
+        Image img(width_, height_);
+        forEachIndex(pool, tiles_.size(), [&](size_t ti) {
+            const Tile& tile = *tiles_[ti];
+            const int x0 = int(ti % size_t(tx)) * kTileSize, y0 = int(ti / size_t(tx)) * kTileSize;
+            const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+            auto addBuffer = [&](const Tile::TypeBuffer& t) {
+                Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
+                    img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
+                });
+            };
+            const auto& list = byLayer[ti];
+            auto first = std::lower_bound(list.begin(), list.end(), layer,
+                                          [](const auto& e, size_t l) { return e.first < l; });
+            for (auto it = first; it != list.end() && it->first == layer; ++it)
+                addBuffer(*it->second);
+            if (layer == order.keep) addBuffer(tile.other);
+            for (int y = y0; y < y0 + h; ++y) {
+                float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
+                for (int k = 0; k < w * 3; ++k) row[k] *= scale;
+            }
+        });
+        out.layers.push_back({order.name(layer), std::move(img)});
+        releaseLayer(order, layer);
+    }
+    clear();
+    return out;
+}
+
+void Film::releaseLayer(const LayerOrder& order, size_t layer) {
+    // The tiles' block pointers into these pools are not read again: the film is cleared next.
+    for (const auto& [type, l] : order.layerOf)
+        if (l == layer) pools_->byType.erase(type);
+    if (layer == order.keep) pools_->other.release();
+#ifdef __GLIBC__
+    malloc_trim(0);  // freed chunks below the mmap threshold go back to the system too
+#endif
 }
 
 size_t Film::typeCount() const {
@@ -499,11 +602,11 @@ void putBlocks(ByteWriter& w, const std::array<Block*, kTileBlocks>& blocks) {
     for (const Block* b : blocks)
         if (b) putSums(w, b->data(), b->size());
 }
-void getBlocks(ByteReader& r, std::array<Block*, kTileBlocks>& blocks, BlockArena& arena) {
+void getBlocks(ByteReader& r, std::array<Block*, kTileBlocks>& blocks, BlockPool& pool) {
     const uint16_t mask = r.get<uint16_t>();
     for (size_t b = 0; b < blocks.size(); ++b) {
         if (!((mask >> b) & 1u)) continue;
-        blocks[b] = arena.allocate();
+        blocks[b] = pool.allocate();
         getSums(r, blocks[b]->data(), blocks[b]->size());
     }
 }
@@ -553,9 +656,10 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
             if (!tile->types.empty() && !(tile->types.back().type < type))
                 r.fail("types out of order");
             if (!film.layers_.keeps(type)) r.fail("a type the film does not keep");
-            getBlocks(r, tile->bufferFor(type, film.layers_).blocks, tile->arena);
+            Tile::TypeBuffer& buffer = tile->bufferFor(type, film.layers_, *film.pools_);
+            getBlocks(r, buffer.blocks, *buffer.pool);
         }
-        getBlocks(r, tile->other.blocks, tile->arena);
+        getBlocks(r, tile->other.blocks, *tile->other.pool);
     }
     if (!r.atEnd()) r.fail("trailing bytes");
     return film;

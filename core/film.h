@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "image.h"
@@ -91,6 +92,10 @@ class Film {
     /// a tile or of samples within a pixel (the sums are exact). With a `pool`,
     /// the work is spread over its threads, for the same result bit for bit.
     LayeredImage resolve(float scale, int maxTypeLayers, ThreadPool* pool = nullptr) const;
+    /// resolve()'s image bit for bit, consuming the film: each layer's memory is given back as
+    /// soon as its image is made (a render's final image: its peak is the film and one layer,
+    /// not the film and every layer). The film is empty afterwards.
+    LayeredImage takeResolved(float scale, int maxTypeLayers, ThreadPool* pool = nullptr);
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
 
@@ -112,9 +117,23 @@ class Film {
     uint64_t droppedSamples() const;
 
   private:
+    struct Pools;
+    /// The layers resolve makes: the kept types ranked by total luminance (ties by PathType
+    /// order), the first `keep` of them layers of their own, then "other" when anything is left.
+    struct LayerOrder {
+        std::vector<std::pair<PathType, double>> ranked;
+        size_t keep = 0;
+        bool hasOther = false;
+        std::map<PathType, size_t> layerOf;  // 0..keep-1, or keep for "other"
+        std::string name(size_t layer) const;
+    };
+    LayerOrder layerOrder(int maxTypeLayers, ThreadPool* pool) const;
+    /// Frees the blocks of the types of `layer` (takeResolved).
+    void releaseLayer(const LayerOrder& order, size_t layer);
     int width_ = 0, height_ = 0;
     TypeLayers layers_;
-    bool typeBuffers_ = true;  // false when layers_ keeps no type: the combined sums only
+    bool typeBuffers_ = true;       // false when layers_ keeps no type: the combined sums only
+    std::unique_ptr<Pools> pools_;  // the type buffers' blocks (film.cpp)
     std::vector<std::unique_ptr<Tile>> tiles_;
     std::atomic<uint64_t> dropped_{0};  // non-finite samples, counted off the hot path
     Tile& tileFor(int x, int y);

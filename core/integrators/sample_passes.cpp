@@ -56,8 +56,9 @@ class SamplePassLoop {
         }
         progress.flush();
         RenderResult result;
-        result.image = renderer_.resolve(std::max<uint64_t>(1, sppDone_), nullptr);
-        result.stats = stats(secondsSince(start_));
+        result.stats = stats(secondsSince(start_));  // before the film is consumed
+        result.image = renderer_.takeResolved(std::max<uint64_t>(1, sppDone_), &ctx_.pool);
+        result.stats.values["seconds"] = secondsSince(start_);
         return result;
     }
 

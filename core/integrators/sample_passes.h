@@ -31,6 +31,11 @@ class SamplePassRenderer {
     virtual void renderPass(SampleRange range, ProgressReporter& progress) = 0;
     /// The image after `samples` samples per pixel; `pool` may be used to resolve it.
     virtual LayeredImage resolve(uint64_t samples, ThreadPool* pool) const = 0;
+    /// resolve()'s image at the end of the render, bit for bit; a renderer may consume its film
+    /// to make it (Film::takeResolved), so nothing but this is called afterwards.
+    virtual LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) {
+        return resolve(samples, pool);
+    }
     /// The integrator's own statistics (rays, types, ...); the loop adds spp and timings.
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).

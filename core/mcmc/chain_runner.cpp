@@ -169,6 +169,10 @@ LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
     return films_[group].resolve(groupScale(group), ctx_.settings.maxTypeLayers, pool);
 }
 
+LayeredImage ChainRunner::takeResolvedGroup(uint32_t group, ThreadPool* pool) {
+    return films_[group].takeResolved(groupScale(group), ctx_.settings.maxTypeLayers, pool);
+}
+
 Image ChainRunner::resolveGroupCombined(uint32_t group) const {
     return films_[group].resolveCombined(groupScale(group));
 }

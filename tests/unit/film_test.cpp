@@ -565,5 +565,29 @@ TEST(Film, BoundedFilmsMergeAndSerializeExactlyAndRefuseOtherLayers) {
     EXPECT_THROW(whole.merge(otherSet), std::invalid_argument);
 }
 
+TEST(Film, TakeResolvedEqualsResolveBitForBitAndEmptiesTheFilm) {
+    const int w = 45, h = 29;
+    const auto types = manyTypes();
+    const auto samples = manyTypeSamples(w, h, 30000, 9);
+    ThreadPool pool(3);
+    for (const TypeLayers& layers :
+         {TypeLayers::every(), TypeLayers::of({types[1], types[7], types[99]}),
+          TypeLayers::of({})}) {
+        for (int maxLayers : {0, 2, 1024}) {
+            SCOPED_TRACE(testing::Message() << layers.types().size() << " kept, " << maxLayers);
+            Film film(w, h, layers);
+            // Arbitrary values: the same additions in the same order give the same bits.
+            for (const Sample& s : samples) film.addSample(s.x, s.y, s.type, s.value * 0.37f);
+            const LayeredImage expected = film.resolve(0.25f, maxLayers);
+            const LayeredImage taken = film.takeResolved(0.25f, maxLayers, &pool);
+            expectBytewiseEqual(taken, expected);
+            EXPECT_EQ(film.typeCount(), 0u);
+            EXPECT_EQ(film.resolveCombined(1.0f).rgb, Image(w, h).rgb);
+            film.addSample(3, 4, types[1], Rgb(1.0f));  // still usable
+            EXPECT_EQ(film.resolveCombined(1.0f).at(3, 4), Rgb(1.0f));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace partita

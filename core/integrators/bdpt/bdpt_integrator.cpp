@@ -68,6 +68,10 @@ class BdptPasses : public SamplePassRenderer {
         return film_.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
+    LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override {
+        return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+    }
+
     Film film() const override {
         Film copy(film_.width(), film_.height(), film_.layers());
         copy.merge(film_);

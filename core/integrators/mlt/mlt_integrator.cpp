@@ -136,12 +136,12 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
                           [&](ThreadPool* pool) { return runner.resolveGroup(0, pool); }, {});
 
     RenderResult result;
-    result.image = runner.resolveGroup(0, nullptr);
     RenderStats& st = result.stats;
     st.values["b"] = bootstrap.b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
     st.values["path_types"] = double(runner.film(0).typeCount());
+    result.image = runner.takeResolvedGroup(0, &ctx.pool);
     addChainStats(st, runner, plan, secondsSince(start), bootstrapSeconds, bootstrap.rays, pixels);
     return result;
 }
