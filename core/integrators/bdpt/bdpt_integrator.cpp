@@ -50,18 +50,26 @@ class BdptPasses : public SamplePassRenderer {
             settings.rouletteStartDepth;
     }
 
+    /// The pass in batches of kBatchTiles tiles (fixed by the tile index, not by the threads):
+    /// each batch's tiles in parallel, then its light-tracing splats into the film. The splats
+    /// held at once are a batch's, not the whole image's (at 1080p a pass of one sample per
+    /// pixel left ~1 GB of them).
     void renderPass(SampleRange range, ProgressReporter& progress) override {
-        int tilesX = film_.tilesX();
-        ctx_.pool.parallelFor(tiles_.size(), [&](size_t tile) {
-            ctx_.throwIfCancelled();
-            int x0 = int(tile % tilesX) * Film::kTileSize,
-                y0 = int(tile / tilesX) * Film::kTileSize;
-            int x1 = std::min(x0 + Film::kTileSize, film_.width());
-            int y1 = std::min(y0 + Film::kTileSize, film_.height());
-            renderTile(x0, y0, x1, y1, range, tiles_[tile]);
-            progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
-        });
-        addSplats(range);
+        const size_t tilesX = size_t(film_.tilesX());
+        for (size_t first = 0; first < tiles_.size(); first += kBatchTiles) {
+            const size_t end = std::min(tiles_.size(), first + kBatchTiles);
+            ctx_.pool.parallelFor(end - first, [&](size_t i) {
+                ctx_.throwIfCancelled();
+                const size_t tile = first + i;
+                int x0 = int(tile % tilesX) * Film::kTileSize,
+                    y0 = int(tile / tilesX) * Film::kTileSize;
+                int x1 = std::min(x0 + Film::kTileSize, film_.width());
+                int y1 = std::min(y0 + Film::kTileSize, film_.height());
+                renderTile(x0, y0, x1, y1, range, tiles_[tile]);
+                progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
+            });
+            addSplats(range, first, end);
+        }
     }
 
     LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override {
@@ -86,13 +94,15 @@ class BdptPasses : public SamplePassRenderer {
         st.values["dropped_samples"] = double(film_.droppedSamples());
     }
 
-    /// Splats are held for a whole pass: keep a pass to about 2^18 pixel samples.
+    /// Splats are held for a batch of a pass: keep a pass to about 2^18 pixel samples.
     uint64_t maxPassSamples() const override {
         double pixels = double(film_.width()) * film_.height();
         return uint64_t(std::max(1.0, std::min(1024.0, double(1 << 18) / pixels)));
     }
 
   private:
+    static constexpr size_t kBatchTiles = 256;  // 65536 pixels
+
     /// Per-thread scratch of one pixel sample.
     struct Scratch {
         std::vector<PathVertex> camera, light;
@@ -148,18 +158,22 @@ class BdptPasses : public SamplePassRenderer {
                (settings_.onlyT < 0 || t == settings_.onlyT);
     }
 
-    /// The pass's splats, sample by sample and within a sample tile by tile: the same order
-    /// whatever the threads did and however the budget was split into passes.
-    /// A group per sample index (splat_buffer.h: accurate float sums).
-    void addSplats(SampleRange range) {
+    /// The splats of tiles [first, end), sample by sample and within a sample tile by tile:
+    /// the same order whatever the threads did and however the budget was split into passes.
+    /// A group per sample index and batch (splat_buffer.h: accurate float sums). The tiles'
+    /// lists are emptied (their memory given back).
+    void addSplats(SampleRange range, size_t first, size_t end) {
         for (uint64_t i = 0; i < range.count(); ++i) {
-            for (const TileSplats& tile : tiles_)
+            for (size_t t = first; t < end; ++t) {
+                const TileSplats& tile = tiles_[t];
                 for (uint32_t k = tile.sampleStarts[i]; k < tile.sampleStarts[i + 1]; ++k) {
                     const Splat& sp = tile.splats[k];
                     splatBuffer_.addTent(sp.raster, sp.type, sp.value);
                 }
+            }
             splatBuffer_.flushInto(film_);
         }
+        for (size_t t = first; t < end; ++t) tiles_[t] = TileSplats{};
     }
 
     const RenderContext& ctx_;
