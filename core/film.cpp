@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <bitset>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -161,12 +162,23 @@ struct alignas(64) Film::Tile {
     // hits unless two types of equal length (differing in which vertices are specular)
     // alternate.
     std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
+    // Likewise the last type per length that went to "other" (its specular mask; a type is
+    // its length and mask), so that a run of samples of one type the film does not keep asks
+    // the TypeLayers table once.
+    std::array<uint64_t, PathType::kMaxScatteringVertices + 1> lastOtherMask{};
+    std::bitset<PathType::kMaxScatteringVertices + 1> hasLastOther;
 
     /// The buffer of `type`: its own when `layers` keeps it, else "other".
     TypeBuffer& bufferFor(PathType type, const TypeLayers& layers, Pools& pools) {
         uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
         if (last < types.size() && types[last].type == type) return types[last];
-        if (!layers.keeps(type)) return other;
+        const size_t length = size_t(type.scatteringVertices());
+        if (hasLastOther[length] && lastOtherMask[length] == type.specularMask()) return other;
+        if (!layers.keeps(type)) {
+            lastOtherMask[length] = type.specularMask();
+            hasLastOther.set(length);
+            return other;
+        }
         TypeBuffer& t = find(type, pools);
         last = uint32_t(&t - types.data());
         return t;
@@ -201,6 +213,7 @@ struct alignas(64) Film::Tile {
         slots.clear();
         slotShift = 64;
         lastByLength.fill(0);
+        hasLastOther.reset();
     }
 
   private:
