@@ -175,11 +175,12 @@ TEST(CliRender, MltRendersEndToEndAndPrintsItsAcceptance) {
     EXPECT_TRUE(meta["stats"].contains("acceptance_bidirectional")) << meta["stats"].dump();
     EXPECT_GT(meta["stats"]["b"].get<double>(), 0);
 
-    // watch shows the same of a detached job (of 2 s, so that the watch joins while it runs).
+    // watch shows the same of a detached job (of 5 s, so that the watch joins while it runs,
+    // even on a busy machine).
     Daemon daemon;
     RunResult submit =
         partita({"--server", daemon.address(), "render", "cornell", "--detach", "--algorithm",
-                 "mlt", "--seconds", "2", "--width", "16", "--height", "12"});
+                 "mlt", "--seconds", "5", "--width", "16", "--height", "12"});
     ASSERT_EQ(submit.exitCode, 0) << submit.describe();
     RunResult watch = partita({"--server", daemon.address(), "watch", lines(submit.out).at(0)});
     ASSERT_EQ(watch.exitCode, 0) << watch.describe();
