@@ -2,11 +2,16 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
+#include <future>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 
 #include "clock.h"
 #include "file_io.h"
@@ -125,11 +130,27 @@ int runMergeCommand(const MergeCommand& command, bool quiet) {
     const auto start = Clock::now();
     uint64_t bytesRead = 0;
     ShardMerger merger(plan);
+    // Shard files are read and decoded a few at a time on their own threads (decoding is most
+    // of a merge), and merged in the order given, so the result is the same.
+    const size_t ahead = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 4);
+    std::deque<std::future<std::pair<ShardResult, uint64_t>>> loading;
+    size_t next = 0;
+    auto loadMore = [&] {
+        while (next < command.shards.size() && loading.size() < ahead) {
+            loading.push_back(std::async(std::launch::async, [path = command.shards[next]] {
+                std::vector<uint8_t> bytes = readFileBytes(path);
+                return std::make_pair(deserializeShardResult(bytes), uint64_t(bytes.size()));
+            }));
+            ++next;
+        }
+    };
     for (const std::string& path : command.shards) {
+        loadMore();
         try {
-            std::vector<uint8_t> bytes = readFileBytes(path);
-            bytesRead += bytes.size();
-            if (!merger.add(deserializeShardResult(bytes)) && !quiet)
+            auto [result, size] = loading.front().get();
+            loading.pop_front();
+            bytesRead += size;
+            if (!merger.add(std::move(result)) && !quiet)
                 std::fprintf(stderr, "%s: that shard was merged already; skipped\n", path.c_str());
         } catch (const std::invalid_argument& e) {
             throw std::runtime_error("'" + path + "': " + e.what());
