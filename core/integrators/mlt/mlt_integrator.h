@@ -3,6 +3,9 @@
 // chain's start, random stream and mutation count (mcmc/chain_plan.h), and the chains run
 // Veach's four mutations (mcmc/veach_mutations.h) on the thread pool (mcmc/chain_runner.h),
 // splatting expected values into per-type layers. The image is I = (b / N) sum h f / f*.
+// By default ("direct" = per-pixel) the direct light (L S* E, L D S* E) is estimated per pixel
+// apart (direct_light.h) and the chains, with the b of the other paths, are restricted to them;
+// the two images add up layer by layer. "direct" = chains leaves every path to the chains.
 //
 // Orchestration only: budget (mutations per pixel or seconds), progress in the phases
 // "bootstrap" and "render", previews, statistics. A perspective camera is required (the
@@ -13,8 +16,10 @@
 
 #include "algorithm.h"
 #include "clock.h"
+#include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "mcmc/chain_plan.h"
+#include "mcmc/markov_chain.h"
 #include "mcmc/veach_mutations.h"
 
 namespace partita {
@@ -37,9 +42,12 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
                              uint64_t samples, Deadline deadline = kNoDeadline);
 
 /// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
-/// resampled from the bootstrap.
+/// resampled from the bootstrap. With a `restriction` (per-pixel direct light: the chains'
+/// paths), the group ("indirect") has the b of the candidates it accepts and the starts are
+/// resampled among those only.
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
-                        const BootstrapResult& bootstrap, int chains, uint64_t mutations);
+                        const BootstrapResult& bootstrap, int chains, uint64_t mutations,
+                        const PathRestriction& restriction = {});
 
 /// What mlt does before its chains run: the bootstrap and the chain plan (mutation budgets
 /// plan every mutation; a time budget plans an upper bound).
@@ -47,8 +55,32 @@ struct MltStart {
     BootstrapResult bootstrap;
     ChainPlan plan;
     double bootstrapSeconds = 0;
+    /// Direct light per pixel (settings "direct" = per-pixel): the chains are restricted to
+    /// indirect paths, the plan's b is theirs, and directSpp samples per pixel (a time budget's:
+    /// at most) estimate the rest; bDirect is the bootstrap's b less the chains'.
+    bool directApart = false;
+    uint64_t directSpp = 0;
+    double bDirect = 0;
 };
 MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
+
+/// The per-pixel direct light of an mlt render (direct_light.h), after its start: none unless
+/// start.directApart; its samples per pixel, film (in the renderer), resolved image and time.
+struct DirectLightRun {
+    std::unique_ptr<DirectLightRenderer> renderer;
+    uint64_t spp = 0;
+    LayeredImage image;
+    double seconds = 0;
+};
+/// Renders start.directSpp samples per pixel (phase "render", in samples), or with a time
+/// budget fewer, once settings.directShare of the time left after `startupSeconds` is spent.
+DirectLightRun runDirectLight(const RenderContext& ctx, const MltStart& start,
+                              const MltSettings& settings, double startupSeconds);
+
+/// The statistics of the direct light: the label "direct" (per-pixel or chains), direct_spp,
+/// and when apart b_direct, direct_rays and direct_share (of the rays after the bootstrap).
+void addDirectLightStats(RenderStats& st, bool apart, uint64_t spp, double bDirect,
+                         double directRays, double chainRays);
 
 /// One chain's mutations.
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings);

@@ -11,6 +11,15 @@ const SettingsTable<MltSettings>& mltParameters() {
               &MltSettings::bootstrapSamples);
         t.add(chainsParameter(), &MltSettings::chains);
         t.add(startupShareParameter(), &MltSettings::startupShare);
+        t.add(ParameterSpec("direct",
+                            "direct light (L S* E, L D S* E): per-pixel samples apart from the "
+                            "chains, or left to the chains")
+                  .withChoices({"per-pixel", "chains"}),
+              &MltSettings::direct);
+        t.add(ParameterSpec("direct_spp", "samples per pixel of the per-pixel direct light")
+                  .withUnit("samples")
+                  .within(1, 1 << 20),
+              &MltSettings::directSpp);
         return t;
     }();
     return table;
