@@ -6,7 +6,8 @@
 // layer.
 //
 // The per-pixel estimator is a path tracer's: per pixel sample a camera subpath (tent-filtered
-// raster position, its own random stream), emitter hits (s = 0) and next-event estimation
+// raster position stratified over the pixel's samples by a scrambled (0, 2)-sequence, the rest
+// from the sample's own random stream), emitter hits (s = 0) and next-event estimation
 // (s = 1) with MIS over those two strategies (path/connection.h's restrictToPathTracer), only
 // contributions of direct-class types kept. A light no camera ray can hit (a point or spot
 // light) seen directly (L E) is light-traced (s = 1, t = 1: one light vertex per pixel sample,
