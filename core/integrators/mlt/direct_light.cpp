@@ -1,6 +1,8 @@
 #include "integrators/mlt/direct_light.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <map>
 #include <span>
 #include <vector>
@@ -54,7 +56,7 @@ PathRestriction indirectLightOnly() {
     return [](const PathType& t) { return !isDirectLightType(t); };
 }
 
-DirectLightRenderer::DirectLightRenderer(const RenderContext& ctx)
+DirectLightRenderer::DirectLightRenderer(const RenderContext& ctx, uint64_t stream)
     : ctx_(ctx),
       film_(ctx.settings.width, ctx.settings.height),
       splatBuffer_(ctx.settings.width, ctx.settings.height),
@@ -64,6 +66,7 @@ DirectLightRenderer::DirectLightRenderer(const RenderContext& ctx)
     walk_.maxVertices = ctx.settings.maxDepth + 2;
     walk_.stopAfterNonSpecular = true;
     lightWalk_.maxVertices = 1;  // the light vertex alone
+    streams_ = kDirectStreams ^ (stream * 0x9e3779b97f4a7c15ull);
     for (const Light& light : ctx.scene.lights())
         lightTracing_ = lightTracing_ || (!isHittableLight(light) && cameraCanConnectTo(light));
 }
@@ -131,9 +134,9 @@ void DirectLightRenderer::renderTile(int x0, int y0, int x1, int y1, SampleRange
                 // The raster position stratified over the pixel's samples (the light seen
                 // directly has its variance at edges), the rest from the sample's own stream.
                 Rng scramble(ctx_.settings.seed,
-                             pixelSampleStream(index, kScrambleSample) ^ kDirectStreams);
+                             pixelSampleStream(index, kScrambleSample) ^ streams_);
                 const uint32_t scrambleX = scramble.nextUInt(), scrambleY = scramble.nextUInt();
-                Rng rng(ctx_.settings.seed, pixelSampleStream(index, s) ^ kDirectStreams);
+                Rng rng(ctx_.settings.seed, pixelSampleStream(index, s) ^ streams_);
                 Vec2f u = scrambledSobol(uint32_t(s), scrambleX, scrambleY);
                 Ray primary = camera.generateRay(filteredRasterPosition(x, y, u));
                 traceCameraSubpath(scene, camera, primary, rng, walk_, path, rays);
@@ -166,6 +169,66 @@ void DirectLightRenderer::renderTile(int x0, int y0, int x1, int y1, SampleRange
             }
         splats.sampleStarts.push_back(uint32_t(splats.splats.size()));
     }
+}
+
+void DirectLightRenderer::absorb(const DirectLightRenderer& other) {
+    film_.merge(other.film_);
+    rays_.fetch_add(other.rays(), std::memory_order_relaxed);
+}
+
+DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress) {
+    auto begin = std::chrono::steady_clock::now();
+    constexpr uint64_t kPilotStream = 1;
+    DirectPilot out;
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, kPilotStream);
+    DirectLightRenderer second(ctx, kPilotStream);
+    out.renderer->renderPass({0, 1}, progress);
+    second.renderPass({1, 2}, progress);
+    const Image a = out.renderer->film().resolveCombined(1.0f);
+    const Image b = second.film().resolveCombined(1.0f);
+    double sum = 0;  // in pixel order: deterministic
+    for (size_t i = 0; i + 2 < a.rgb.size(); i += 3) {
+        double d = double(luminance(Rgb(a.rgb[i], a.rgb[i + 1], a.rgb[i + 2]))) -
+                   double(luminance(Rgb(b.rgb[i], b.rgb[i + 1], b.rgb[i + 2])));
+        sum += d * d;
+    }
+    out.variance = sum / 2;
+    out.renderer->absorb(second);
+    out.rays = double(out.renderer->rays());
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    return out;
+}
+
+double chainHalvesError(const Film& a, uint64_t mutationsA, const Film& b, uint64_t mutationsB,
+                        double bValue, int width, int height) {
+    if (mutationsA == 0 || mutationsB == 0) return 0;
+    const double pixels = double(width) * height;
+    const Image ia = a.resolveCombined(float(bValue * pixels / double(mutationsA)));
+    const Image ib = b.resolveCombined(float(bValue * pixels / double(mutationsB)));
+    double sum = 0;
+    for (size_t i = 0; i + 2 < ia.rgb.size(); i += 3) {
+        double d = double(luminance(Rgb(ia.rgb[i], ia.rgb[i + 1], ia.rgb[i + 2]))) -
+                   double(luminance(Rgb(ib.rgb[i], ib.rgb[i + 1], ib.rgb[i + 2])));
+        sum += d * d;
+    }
+    return sum / 4;
+}
+
+uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,
+                         double chainCost, uint64_t lo, uint64_t hi) {
+    if (!(chainError > 0) || !(chainCost > 0) || !(directCost > 0) || !(directVariance >= 0))
+        return lo;
+    double n = std::sqrt(directVariance * chainCost / (chainError * directCost));
+    if (!std::isfinite(n)) return hi;
+    return uint64_t(std::clamp(std::ceil(n), double(lo), double(hi)));
+}
+
+double neymanDirectShare(double directVariance, double directCost, double chainError,
+                         double chainCost) {
+    const double ad = std::sqrt(std::max(0.0, directVariance * directCost));
+    const double ac = std::sqrt(std::max(0.0, chainError * chainCost));
+    if (!(ac > 0)) return 1;
+    return ad / (ad + ac);
 }
 
 LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayers,

@@ -20,6 +20,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "algorithm.h"
@@ -45,7 +46,8 @@ PathRestriction indirectLightOnly();
 /// The per-pixel direct-light estimator, into its own film (resolved with 1 / spp).
 class DirectLightRenderer {
   public:
-    explicit DirectLightRenderer(const RenderContext& ctx);
+    /// `stream`: another value gives independent samples (the pilot's).
+    explicit DirectLightRenderer(const RenderContext& ctx, uint64_t stream = 0);
     ~DirectLightRenderer();
     /// Samples [range.first, range.end) of every pixel, on ctx's pool (tile by tile, in parts
     /// of at most maxPassSamples()); advances `progress` (when set) by pixels x samples;
@@ -54,6 +56,9 @@ class DirectLightRenderer {
     const Film& film() const { return film_; }
     Film takeFilm() { return std::move(film_); }
     uint64_t rays() const { return rays_.load(); }
+    /// Adds another renderer's film and rays (samples of other indices: the film sums exactly,
+    /// so this is the film that rendering them here would give).
+    void absorb(const DirectLightRenderer& other);
 
   private:
     /// A light-tracing splat of L E (a point or spot light seen directly).
@@ -77,12 +82,51 @@ class DirectLightRenderer {
     std::vector<TileSplats> tiles_;
     WalkSettings walk_, lightWalk_;
     bool lightTracing_ = false;  // the scene has a light that camera rays cannot hit but see
+    uint64_t streams_;
     std::atomic<uint64_t> rays_{0};
 };
 
 /// The direct part's image after `spp` samples per pixel (as pt's and bdpt's: the film / spp).
 LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayers,
                                 ThreadPool* pool);
+
+/// The direct light's pilot: two samples of every pixel, independent of the image's own (a
+/// stream of their own), rendered into two films, which give the per-sample variance of the
+/// direct image, V_d = sum over pixels of (L0 - L1)^2 / 2 (L the luminance of a pixel's
+/// one-sample estimate: unbiased for independent samples; the image's stratified samples do
+/// better). The pilot's samples are not part of the image, so that the samples per pixel the
+/// rule draws from them do not depend on the samples they are averaged with.
+struct DirectPilot {
+    std::unique_ptr<DirectLightRenderer> renderer;  // both samples (a preview's direct light)
+    double variance = 0;                            // V_d
+    double rays = 0;
+    double seconds = 0;
+};
+DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress);
+
+/// The error of the chains' image, sum over pixels of its variance, from two halves of the
+/// chains (two films of independent chains, each resolved with b W H / its own mutations):
+/// (I_a - I_b)^2 / 4 summed over pixels, in luminance. 0 when a half has no mutation.
+double chainHalvesError(const Film& a, uint64_t mutationsA, const Film& b, uint64_t mutationsB,
+                        double bValue, int width, int height);
+
+/// The split of the budget between the per-pixel direct light and the chains (issue #22 1),
+/// Neyman allocation: with A_d = V_d c_d (the direct image's error times its cost, per sample
+/// per pixel: E_d(n) = V_d / n for n samples per pixel costing n c_d) and A_c = E_c T_c (the
+/// chains' error times what they cost), the total error A_d / T_d + A_c / T_c with
+/// T_d + T_c = T fixed is smallest at T_d / T_c = sqrt(A_d / A_c). Costs are rays for a mutation
+/// budget (deterministic: the image depends on neither threads nor timing) and seconds for a
+/// time budget. For a mutation budget the chains keep their mutations (T_c is what they cost)
+/// and the direct light gets T_d = T_c sqrt(A_d / A_c), so
+///   n = T_d / c_d = sqrt(V_d T_c / (E_c c_d)),
+/// the samples per pixel returned, within [lo, hi]; `lo` when nothing is measured (no chain).
+/// c_d is the cost of one sample of every pixel.
+uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,
+                         double chainCost, uint64_t lo, uint64_t hi);
+/// The same rule as the share of a total T_d + T_c that goes to the direct light:
+/// sqrt(A_d) / (sqrt(A_d) + sqrt(A_c)); 1 when the chains have no error.
+double neymanDirectShare(double directVariance, double directCost, double chainError,
+                         double chainCost);
 
 /// The sum of two images resolved from films with no path type in common (each resolved with
 /// the same `maxTypeLayers`): the combined images added, and the type layers of both ranked

@@ -87,8 +87,11 @@ ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sample
                 members.push_back(uint32_t(i));
                 sum += bootstrap.candidates[i].weight;
             }
-        plan.groups.push_back(
-            {"indirect", bootstrap.samples > 0 ? sum / double(bootstrap.samples) : 0});
+        // Two groups of the same b, the even and the odd chains: two independent halves, whose
+        // difference measures the chains' error (direct_light.h's split rule).
+        const double b = bootstrap.samples > 0 ? sum / double(bootstrap.samples) : 0;
+        plan.groups.push_back({"indirect-even", b});
+        plan.groups.push_back({"indirect-odd", b});
         starts = resampleCandidates(bootstrap.candidates, members, size_t(chains), rng);
         for (size_t& start : starts) start = members[start];
     }
@@ -97,6 +100,7 @@ ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sample
             chainStart(ctx, sampler, bootstrap.candidates, starts[k], restriction);
         if (start.empty()) continue;
         PlannedChain chain;
+        chain.group = restriction ? uint32_t(k % 2) : 0;
         chain.stream = kChainStreams + k;
         chain.mutations = shareRange(mutations, starts.size(), k).count();
         chain.start = std::move(start);
@@ -128,10 +132,7 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     out.directApart = settings.direct != "chains";
     out.plan = planMltChains(ctx, sampler, out.bootstrap, chains, mutations,
                              out.directApart ? indirectLightOnly() : PathRestriction{});
-    if (out.directApart) {
-        out.directSpp = settings.directSpp;
-        out.bDirect = out.bootstrap.b - out.plan.groups[0].b;
-    }
+    if (out.directApart) out.bDirect = out.bootstrap.b - out.plan.groups[0].b;
     return out;
 }
 
@@ -139,71 +140,202 @@ MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settin
     return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, settings.mutations);
 }
 
-DirectLightRun runDirectLight(const RenderContext& ctx, const MltStart& start,
-                              const MltSettings& settings, double startupSeconds) {
-    DirectLightRun out;
-    const RenderSettings& rs = ctx.settings;
-    if (!start.directApart || start.directSpp == 0) return out;
+LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
+                                ThreadPool* pool) {
+    Film sum(rs.width, rs.height);
+    sum.merge(*chains.films[0]);
+    sum.merge(*chains.films[1]);
+    const uint64_t done = chains.mutations[0] + chains.mutations[1];
+    return sum.resolve(ChainRunner::filmScale(chains.b, rs.width, rs.height, done),
+                       rs.maxTypeLayers, pool);
+}
+
+DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
+                                      const ChainHalves& chains, double chainRays,
+                                      const DirectPilot* pilot) {
     auto begin = Clock::now();
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx);
-    const double pixels = double(rs.width) * rs.height;
-    const bool timed = rs.budgetKind == BudgetKind::Seconds;
-    // A time budget's direct light stops once it has had directShare of the time the bootstrap
-    // left (at least one sample per pixel: the chains never see direct paths); then a pass is
-    // one sample per pixel. A mutation budget renders all its samples, in passes of at most
-    // about 2^20 pixel samples (progress, cancellation; the film does not depend on them).
-    const double limit =
-        timed ? std::max(0.0, rs.budget - startupSeconds) * settings.directShare : 0;
-    const uint64_t pass =
-        timed ? 1 : std::max<uint64_t>(1, uint64_t(double(1 << 20) / std::max(1.0, pixels)));
-    ProgressReporter progress(ctx.observer, "render", "samples",
-                              timed ? 0 : pixels * double(start.directSpp));
-    while (out.spp < start.directSpp) {
-        ctx.throwIfCancelled();
-        const uint64_t end = std::min(start.directSpp, out.spp + pass);
-        out.renderer->renderPass({out.spp, end}, &progress);
-        out.spp = end;
-        if (timed && secondsSince(begin) >= limit) break;
+    const RenderSettings& rs = ctx.settings;
+    const double pilotSeconds = pilot ? pilot->seconds : 0;  // ran before
+    DirectLightRun out;
+    uint64_t spp = settings.directSpp;
+    if (spp == 0) {
+        DirectPilot own;
+        if (!pilot) {
+            own = runDirectPilot(ctx, nullptr);
+            pilot = &own;
+        }
+        out.variance = pilot->variance;
+        out.pilotRays = pilot->rays;
+        out.chainError = chainHalvesError(*chains.films[0], chains.mutations[0], *chains.films[1],
+                                          chains.mutations[1], chains.b, rs.width, rs.height);
+        // Costs in rays: c_d of one sample per pixel (the pilot's two), T_c the chains'.
+        spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, 2,
+                              std::max<uint64_t>(2, settings.directMaxSpp));
     }
-    progress.flush();
-    out.seconds = secondsSince(begin);
-    out.image = resolveDirectLight(out.renderer->film(), out.spp, rs.maxTypeLayers, &ctx.pool);
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx);
+    // No progress reports: the render phase's last report stays the chains' (mutations).
+    out.renderer->renderPass({0, spp}, nullptr);
+    out.spp = spp;
+    out.seconds = secondsSince(begin) + pilotSeconds;
     return out;
 }
 
-void addDirectLightStats(RenderStats& st, bool apart, uint64_t spp, double bDirect,
-                         double directRays, double chainRays) {
+void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& direct, double bDirect,
+                         double chainRays) {
     st.labels["direct"] = apart ? "per-pixel" : "chains";
-    st.values["direct_spp"] = double(spp);
+    st.values["direct_spp"] = double(direct.spp);
     if (!apart) return;
+    const double directRays = direct.rays();
     st.values["b_direct"] = bDirect;
     st.values["direct_rays"] = directRays;
     // The share of the rays after the bootstrap that went to the per-pixel direct light.
     st.values["direct_share"] =
         directRays + chainRays > 0 ? directRays / (directRays + chainRays) : 0;
+    // The split rule's inputs (direct_light.h), when it chose the samples per pixel.
+    if (direct.variance >= 0) st.values["direct_variance"] = direct.variance;
+    if (direct.chainError >= 0) st.values["chain_error"] = direct.chainError;
+    if (direct.timeShare >= 0) st.values["direct_time_share"] = direct.timeShare;
 }
+
+namespace {
+
+/// Runs the chains for `seconds` (a time budget's stage) after `startupSeconds` of the job.
+void runChainsFor(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
+                  double startupSeconds, double seconds,
+                  const std::function<LayeredImage(ThreadPool*)>& resolve) {
+    RenderSettings stage = ctx.settings;
+    stage.budget = startupSeconds + seconds;
+    RenderContext stageCtx{ctx.scene, ctx.camera, stage, ctx.pool, ctx.cancel, ctx.observer};
+    runChainsWithPreviews(stageCtx, runner, plan, startupSeconds, resolve, {});
+}
+
+/// A time budget's fixed direct light before the chains: settings.directSpp samples per pixel,
+/// stopping once it has had directShare of the time the bootstrap left.
+DirectLightRun fixedDirectLightFirst(const RenderContext& ctx, const MltSettings& settings,
+                                     double startupSeconds) {
+    auto begin = Clock::now();
+    const RenderSettings& rs = ctx.settings;
+    DirectLightRun out;
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx);
+    const double limit = std::max(0.0, rs.budget - startupSeconds) * settings.directShare;
+    ProgressReporter progress(ctx.observer, "render", "samples", 0);
+    while (out.spp < settings.directSpp) {
+        ctx.throwIfCancelled();
+        out.renderer->renderPass({out.spp, out.spp + 1}, &progress);
+        ++out.spp;
+        if (secondsSince(begin) >= limit) break;
+    }
+    progress.flush();
+    out.seconds = secondsSince(begin);
+    return out;
+}
+
+}  // namespace
 
 RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     const RenderSettings& rs = ctx.settings;
     auto start = Clock::now();
-    double pixels = double(rs.width) * rs.height;
+    const double pixels = double(rs.width) * rs.height;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
     MltStart mltStart = startMlt(ctx, settings_);
     const BootstrapResult& bootstrap = mltStart.bootstrap;
     const ChainPlan& plan = mltStart.plan;
     const double bootstrapSeconds = mltStart.bootstrapSeconds;
-    // The direct light first (per pixel, when apart), then the chains with the time left.
-    const DirectLightRun direct = runDirectLight(ctx, mltStart, settings_, bootstrapSeconds);
-    const double startupSeconds = bootstrapSeconds + direct.seconds;
+    const bool apart = mltStart.directApart;
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
     ChainRunner::RestrictionFactory restrictions;
-    if (mltStart.directApart) restrictions = [](uint32_t) { return indirectLightOnly(); };
+    if (apart) restrictions = [](uint32_t) { return indirectLightOnly(); };
     ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations);
-    auto resolve = [&](ThreadPool* pool) {
-        LayeredImage chains = runner.resolveGroup(0, pool);
-        return mltStart.directApart ? addDisjointParts(direct.image, chains, rs.maxTypeLayers)
-                                    : chains;
+    ChainHalves halves;
+    if (apart) halves = {{&runner.film(0), &runner.film(1)}, {0, 0}, plan.groups[0].b};
+    auto chainImage = [&](ThreadPool* pool) {
+        if (!apart) return runner.resolveGroup(0, pool);
+        halves.mutations[0] = runner.mutationsDone(0);
+        halves.mutations[1] = runner.mutationsDone(1);
+        return resolveChainHalves(halves, rs, pool);
     };
-    runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+    // What the previews show of the direct light: its pilot, then all of it.
+    LayeredImage directImage;
+    auto resolve = [&](ThreadPool* pool) {
+        LayeredImage chains = chainImage(pool);
+        return apart ? addDisjointParts(directImage, chains, rs.maxTypeLayers) : chains;
+    };
+
+    DirectLightRun direct;
+    double startupSeconds = bootstrapSeconds;
+    if (!apart) {
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+    } else if (settings_.directSpp > 0 && timed) {
+        // A fixed count first, then the chains with the time left.
+        direct = fixedDirectLightFirst(ctx, settings_, bootstrapSeconds);
+        startupSeconds += direct.seconds;
+        directImage =
+            resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+    } else {
+        // The pilot's two samples per pixel first (the previews' direct light).
+        DirectPilot pilot;
+        if (settings_.directSpp == 0) {
+            ProgressReporter pilotProgress(ctx.observer, "render", "samples", 2 * pixels);
+            pilot = runDirectPilot(ctx, &pilotProgress);
+            pilotProgress.flush();
+            directImage = resolveDirectLight(pilot.renderer->film(), 2, rs.maxTypeLayers, nullptr);
+            startupSeconds += pilot.seconds;
+        }
+        if (!timed) {
+            // A mutation budget: all the chains, then the direct light the rule gives them.
+            runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+            chainImage(nullptr);  // the halves' mutation counts
+            direct = directLightAfterChains(ctx, settings_, halves, double(runner.rays()),
+                                            settings_.directSpp == 0 ? &pilot : nullptr);
+            startupSeconds = bootstrapSeconds + direct.seconds;
+        } else {
+            // A time budget: the chains' first stage measures their error and cost in seconds,
+            // the rule splits the time after the bootstrap, the direct light takes its share
+            // and the chains the rest.
+            const double total = std::max(0.0, rs.budget - bootstrapSeconds);
+            const double first =
+                settings_.firstChainShare * std::max(0.0, rs.budget - secondsSince(start));
+            auto chainsStart = Clock::now();
+            runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve);
+            const double chainSeconds = secondsSince(chainsStart);
+            chainImage(nullptr);
+            direct.renderer = std::make_unique<DirectLightRenderer>(ctx);
+            direct.variance = pilot.variance;
+            direct.pilotRays = pilot.rays;
+            direct.chainError =
+                chainHalvesError(*halves.films[0], halves.mutations[0], *halves.films[1],
+                                 halves.mutations[1], halves.b, rs.width, rs.height);
+            const double perSpp = pilot.seconds / 2;
+            const double share =
+                neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
+            const double target = share * total;
+            double directSeconds = pilot.seconds;
+            ProgressReporter progress(ctx.observer, "render", "samples", 0);
+            while (directSeconds < target && direct.spp < (uint64_t(1) << 20) &&
+                   secondsSince(start) < rs.budget) {
+                ctx.throwIfCancelled();
+                // Passes of about a quarter of a second, never past the share.
+                const double left = std::min(target - directSeconds, 0.25);
+                const uint64_t n = uint64_t(std::clamp(left / std::max(perSpp, 1e-9), 1.0, 4096.0));
+                auto passStart = Clock::now();
+                direct.renderer->renderPass({direct.spp, direct.spp + n}, &progress);
+                direct.spp += n;
+                directSeconds += secondsSince(passStart);
+            }
+            progress.flush();
+            direct.seconds = directSeconds;
+            directImage = resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers,
+                                             &ctx.pool);
+            startupSeconds = bootstrapSeconds + directSeconds;
+            const double elapsed = secondsSince(start);
+            runChainsFor(ctx, runner, plan, elapsed, std::max(0.0, rs.budget - elapsed), resolve);
+            direct.timeShare = share;
+        }
+    }
+    if (apart)
+        directImage =
+            resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
 
     RenderResult result;
     result.image = resolve(nullptr);
@@ -211,14 +343,19 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     st.values["b"] = plan.groups[0].b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
-    const double directRays = direct.renderer ? double(direct.renderer->rays()) : 0;
-    st.values["path_types"] = double(runner.film(0).typeCount() +
-                                     (direct.renderer ? direct.renderer->film().typeCount() : 0));
+    const double directRays = direct.rays();
+    size_t types = runner.film(0).typeCount();
+    if (apart) {
+        Film chains(rs.width, rs.height);
+        chains.merge(runner.film(0));
+        chains.merge(runner.film(1));
+        types = chains.typeCount() + direct.renderer->film().typeCount();
+    }
+    st.values["path_types"] = double(types);
     addChainStats(st, runner, plan, secondsSince(start), startupSeconds,
                   bootstrap.rays + uint64_t(directRays), pixels);
-    addDirectLightStats(st, mltStart.directApart, direct.spp, mltStart.bDirect, directRays,
-                        double(runner.rays()));
-    if (mltStart.directApart) st.values["direct_seconds"] = direct.seconds;
+    addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
+    if (apart) st.values["direct_seconds"] = direct.seconds;
     return result;
 }
 

@@ -56,31 +56,52 @@ struct MltStart {
     ChainPlan plan;
     double bootstrapSeconds = 0;
     /// Direct light per pixel (settings "direct" = per-pixel): the chains are restricted to
-    /// indirect paths, the plan's b is theirs, and directSpp samples per pixel (a time budget's:
-    /// at most) estimate the rest; bDirect is the bootstrap's b less the chains'.
+    /// indirect paths in two halves (groups 0 and 1, the even and the odd chains) with their b;
+    /// bDirect is the bootstrap's b less the chains'.
     bool directApart = false;
-    uint64_t directSpp = 0;
     double bDirect = 0;
 };
 MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
 
-/// The per-pixel direct light of an mlt render (direct_light.h), after its start: none unless
-/// start.directApart; its samples per pixel, film (in the renderer), resolved image and time.
+/// The chains of a per-pixel-direct render: two halves (even and odd chains, groups 0 and 1)
+/// of the same b.
+struct ChainHalves {
+    const Film* films[2] = {nullptr, nullptr};
+    uint64_t mutations[2] = {0, 0};
+    double b = 0;
+};
+/// Their image: both films summed, scaled by b W H / (all their mutations).
+LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
+                                ThreadPool* pool);
+
+/// The per-pixel direct light of an mlt render (direct_light.h): its renderer (the film), its
+/// samples per pixel, and what the split rule measured (negative where it did not run).
 struct DirectLightRun {
     std::unique_ptr<DirectLightRenderer> renderer;
     uint64_t spp = 0;
-    LayeredImage image;
+    double variance = -1;    // V_d, per sample per pixel, summed over pixels
+    double chainError = -1;  // E_c, of the chains' image
+    double timeShare = -1;   // a time budget's: the share of the time the rule gave it
+    double pilotRays = 0;    // the pilot's, whose samples are not in the image
     double seconds = 0;
+    /// Every ray the direct light traced, the pilot's included.
+    double rays() const { return (renderer ? double(renderer->rays()) : 0) + pilotRays; }
 };
-/// Renders start.directSpp samples per pixel (phase "render", in samples), or with a time
-/// budget fewer, once settings.directShare of the time left after `startupSeconds` is spent.
-DirectLightRun runDirectLight(const RenderContext& ctx, const MltStart& start,
-                              const MltSettings& settings, double startupSeconds);
+
+/// A mutation budget's direct light once its chains are done, in process and in a sharded
+/// job's resolve alike (the same film and samples per pixel: bit-identical): settings.directSpp
+/// samples per pixel, or with 0 as many as neymanDirectSpp gives from the pilot's variance and
+/// rays (`pilot` when it already ran, else run here), the chains' error (chainHalvesError) and
+/// `chainRays`.
+DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
+                                      const ChainHalves& chains, double chainRays,
+                                      const DirectPilot* pilot);
 
 /// The statistics of the direct light: the label "direct" (per-pixel or chains), direct_spp,
-/// and when apart b_direct, direct_rays and direct_share (of the rays after the bootstrap).
-void addDirectLightStats(RenderStats& st, bool apart, uint64_t spp, double bDirect,
-                         double directRays, double chainRays);
+/// and when apart b_direct, direct_rays, direct_share (of the rays after the bootstrap), and
+/// the rule's direct_variance, chain_error and (time budgets) direct_time_share.
+void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& direct, double bDirect,
+                         double chainRays);
 
 /// One chain's mutations.
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings);

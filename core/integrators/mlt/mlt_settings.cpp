@@ -16,9 +16,11 @@ const SettingsTable<MltSettings>& mltParameters() {
                             "chains, or left to the chains")
                   .withChoices({"per-pixel", "chains"}),
               &MltSettings::direct);
-        t.add(ParameterSpec("direct_spp", "samples per pixel of the per-pixel direct light")
+        t.add(ParameterSpec("direct_spp",
+                            "samples per pixel of the per-pixel direct light (0: chosen from the "
+                            "measured variances and costs of it and the chains)")
                   .withUnit("samples")
-                  .within(1, 1 << 20),
+                  .within(0, 1 << 20),
               &MltSettings::directSpp);
         return t;
     }();

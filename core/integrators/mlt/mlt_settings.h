@@ -28,13 +28,19 @@ struct MltSettings {
     /// path (as Veach & Guibas and Mitsuba's mlt), or "chains", every path to the chains (the
     /// behaviour before; the same image bit for bit). Parameter "direct".
     std::string direct = "per-pixel";
-    /// Samples per pixel of the per-pixel direct light: Mitsuba's `directSamples` default. A
-    /// mutation budget gets them besides its mutations (deterministic: the image depends on
-    /// neither threads nor timing); a time budget runs them after the bootstrap, stopping early
-    /// when they would take more than directShare of the time left, and the chains get the rest.
-    /// Parameter "direct_spp".
-    uint64_t directSpp = 16;
+    /// Samples per pixel of the per-pixel direct light; 0 (the default): chosen by the rule of
+    /// direct_light.h (Neyman allocation from the measured variances and costs of the two
+    /// parts: the direct light's first two samples per pixel, two halves of the chains), at
+    /// least 2 and at most directMaxSpp. A mutation budget's chains keep their mutations and
+    /// the direct light comes after them, its cost counted in rays (deterministic); a time
+    /// budget's chains run a first quarter of the time, then the rule splits the whole time in
+    /// seconds. A fixed count (Mitsuba's directSamples is 16) with a mutation budget is rendered
+    /// besides the mutations; with a time budget it stops early when it has had directShare of
+    /// the time the bootstrap left, and the chains get the rest. Parameter "direct_spp".
+    uint64_t directSpp = 0;
+    uint64_t directMaxSpp = 4096;
     double directShare = 0.5;
+    double firstChainShare = 0.25;  // auto with a time budget: the chains' measuring stage
     VeachMutationSettings mutations;
 };
 

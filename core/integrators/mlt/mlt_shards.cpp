@@ -18,10 +18,10 @@ namespace {
 struct MltPlan {
     ChainPlan chains;
     uint64_t bootstrapRays = 0;
-    // Direct light per pixel: the chains are restricted to the other paths, and the shards
-    // share the direct light's samples per pixel (each a range of sample indices).
+    // Direct light per pixel: the chains, in two halves, are restricted to the other paths;
+    // the direct light is rendered when they are done, in the resolve step (its samples per
+    // pixel follow from the chains' error and rays), as the one-process render does.
     bool directApart = false;
-    uint64_t directSpp = 0;
     double bDirect = 0;
 };
 
@@ -30,7 +30,6 @@ std::vector<uint8_t> serializeMltPlan(const MltPlan& plan) {
     w.put(plan.bootstrapRays);
     w.putBytes(serializeChainPlan(plan.chains));
     w.put(uint8_t(plan.directApart));
-    w.put(plan.directSpp);
     w.put(plan.bDirect);
     return std::move(w.bytes);
 }
@@ -40,10 +39,10 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
     MltPlan plan;
     plan.bootstrapRays = r.get<uint64_t>();
     plan.chains = deserializeChainPlan(r.getBytes());
-    if (plan.chains.groups.size() != 1) r.fail("expected one chain group");
     plan.directApart = r.get<uint8_t>() != 0;
-    plan.directSpp = r.get<uint64_t>();
     plan.bDirect = r.get<double>();
+    if (plan.chains.groups.size() != (plan.directApart ? 2u : 1u))
+        r.fail("expected one chain group, or two with the direct light apart");
     if (!r.atEnd()) r.fail("trailing bytes");
     return plan;
 }
@@ -53,8 +52,8 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
 std::vector<uint8_t> MltShards::plan(const RenderContext& ctx) {
     requireMutationBudget(ctx, "mlt");
     MltStart start = startMlt(ctx, settings_);
-    return serializeMltPlan({std::move(start.plan), start.bootstrap.rays, start.directApart,
-                             start.directSpp, start.bDirect});
+    return serializeMltPlan(
+        {std::move(start.plan), start.bootstrap.rays, start.directApart, start.bDirect});
 }
 
 uint32_t MltShards::maxShards(const RenderContext&, std::span<const uint8_t> plan) const {
@@ -67,25 +66,8 @@ ShardWork MltShards::renderShard(const RenderContext& ctx, std::span<const uint8
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
     ChainRunner::RestrictionFactory restrictions;
     if (plan.directApart) restrictions = [](uint32_t) { return indirectLightOnly(); };
-    ShardWork work = runChainShard(ctx, plan.chains, shard, shards, makeMutations, restrictions,
-                                   settings_.roundMutations);
-    if (!plan.directApart) return work;
-    // The direct light's film after the chains' one, with its samples per pixel as its count:
-    // every (pixel, sample) has its own stream and the film sums exactly, so the merged film
-    // is the one-process render's.
-    const ShareRange share = shareRange(plan.directSpp, shards, shard);
-    DirectLightRenderer direct(ctx);
-    if (share.count() > 0) {
-        const double pixels = double(ctx.settings.width) * ctx.settings.height;
-        ProgressReporter progress(ctx.observer, "render", "samples",
-                                  pixels * double(share.count()));
-        direct.renderPass({share.first, share.end}, &progress);
-        progress.flush();
-    }
-    work.sums["direct_rays"] = double(direct.rays());
-    work.films.push_back(direct.takeFilm());
-    work.counts.push_back(share.count());
-    return work;
+    return runChainShard(ctx, plan.chains, shard, shards, makeMutations, restrictions,
+                         settings_.roundMutations);
 }
 
 RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
@@ -93,37 +75,42 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     const MltPlan plan = deserializeMltPlan(bytes);
     const RenderSettings& rs = ctx.settings;
     const double b = plan.chains.groups[0].b;
-    const Film& film = merged.films.at(0);
-    const size_t films = plan.directApart ? 2 : 1;
+    const size_t films = plan.chains.groups.size();
     if (merged.films.size() != films || merged.counts.size() != films)
         throw std::invalid_argument("merged mlt work has " + std::to_string(merged.films.size()) +
                                     " films, expected " + std::to_string(films));
+    const double pixels = double(rs.width) * rs.height;
     RenderResult result;
-    result.image = film.resolve(ChainRunner::filmScale(b, rs.width, rs.height, merged.counts.at(0)),
-                                rs.maxTypeLayers, nullptr);
     RenderStats& st = result.stats;
-    // The chains' statistics from the chains' film and count only.
-    ShardWork chains;
-    chains.counts = {merged.counts[0]};
-    chains.sums = merged.sums;
-    addMergedChainStats(st, chains, plan.chains, double(rs.width) * rs.height);
+    addMergedChainStats(st, merged, plan.chains, pixels);
     st.values["b"] = b;
     st.values["bootstrap_samples"] = double(plan.chains.bootstrapSamples);
-    st.values["path_types"] = double(film.typeCount());
-    st.values["rays"] += double(plan.bootstrapRays);
     const double chainRays = st.values["rays"];
-    double directRays = 0;
-    if (plan.directApart) {
-        const Film& directFilm = merged.films[1];
-        result.image = addDisjointParts(
-            resolveDirectLight(directFilm, merged.counts[1], rs.maxTypeLayers, nullptr),
-            result.image, rs.maxTypeLayers);
-        directRays = st.values["direct_rays"];
-        st.values["rays"] += directRays;
-        st.values["path_types"] += double(directFilm.typeCount());
+    st.values["rays"] += double(plan.bootstrapRays);
+    if (!plan.directApart) {
+        const Film& film = merged.films[0];
+        result.image =
+            film.resolve(ChainRunner::filmScale(b, rs.width, rs.height, merged.counts[0]),
+                         rs.maxTypeLayers, nullptr);
+        st.values["path_types"] = double(film.typeCount());
+        addDirectLightStats(st, false, {}, 0, chainRays);
+        return result;
     }
-    addDirectLightStats(st, plan.directApart, plan.directApart ? merged.counts[1] : 0, plan.bDirect,
-                        directRays, chainRays - double(plan.bootstrapRays));
+    // The direct light after the chains, as the one-process render: the same rule on the same
+    // films and rays, so the same samples per pixel and film.
+    const ChainHalves halves{
+        {&merged.films[0], &merged.films[1]}, {merged.counts[0], merged.counts[1]}, b};
+    const DirectLightRun direct =
+        directLightAfterChains(ctx, settings_, halves, chainRays, nullptr);
+    result.image = addDisjointParts(
+        resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, nullptr),
+        resolveChainHalves(halves, rs, nullptr), rs.maxTypeLayers);
+    Film chains(rs.width, rs.height);
+    chains.merge(merged.films[0]);
+    chains.merge(merged.films[1]);
+    st.values["path_types"] = double(chains.typeCount() + direct.renderer->film().typeCount());
+    st.values["rays"] += direct.rays();
+    addDirectLightStats(st, true, direct, plan.bDirect, chainRays);
     return result;
 }
 

@@ -99,7 +99,7 @@ std::vector<double> blockMeans(const LayeredImage& image, const std::vector<std:
 /// chains left unrestricted fail on cornell-glass and cornell-point, the direct part's MIS
 /// weights left out on cornell-glass and the environment scene.
 void expectDirectApartMatchesBdpt(const RenderScene& scene, const std::string& name, double mpp,
-                                  double spp, int seeds) {
+                                  double spp, int seeds, bool autoSplit = false) {
     LayeredImage probe = test::renderWith(scene, "bdpt", tinySettings(4 * spp, 99)).image;
     std::vector<std::string> types;
     int direct = 0, indirect = 0;
@@ -117,9 +117,16 @@ void expectDirectApartMatchesBdpt(const RenderScene& scene, const std::string& n
     std::vector<std::vector<double>> mlt, bdpt;
     for (int seed = 0; seed < seeds; ++seed) {
         RenderResult r = test::renderWith(
-            scene, "mlt", mltSettings(mpp, 10 + uint64_t(seed), "per-pixel", uint64_t(spp / 2)));
+            scene, "mlt",
+            mltSettings(mpp, 10 + uint64_t(seed), "per-pixel", autoSplit ? 0 : uint64_t(spp / 2)));
         EXPECT_EQ(r.stats.labels["direct"], "per-pixel");
-        EXPECT_EQ(r.stats.values["direct_spp"], spp / 2);
+        if (!autoSplit) {
+            EXPECT_EQ(r.stats.values["direct_spp"], spp / 2);
+        } else {
+            EXPECT_GE(r.stats.values["direct_spp"], 2.0);
+            EXPECT_GT(r.stats.values["direct_variance"], 0.0);
+            EXPECT_GT(r.stats.values["chain_error"], 0.0);
+        }
         EXPECT_GT(r.stats.values["direct_share"], 0.0);
         mlt.push_back(blockMeans(r.image, types));
         bdpt.push_back(blockMeans(
@@ -152,6 +159,35 @@ TEST(MltDirect, AgreesWithBdptPerTypeOnCornellPoint) {
 
 TEST(MltDirect, AgreesWithBdptPerTypeUnderAnEnvironmentMap) {
     expectDirectApartMatchesBdpt(RenderScene(environmentScene()), "environment", 256, 64, 16);
+}
+
+TEST(MltDirect, TheSplitRuleAgreesWithBdptOnCornellGlass) {
+    // The samples per pixel the rule chooses (from the chains' and the pilot's measurements, the
+    // pilot's samples not in the image) leave the image unbiased.
+    expectDirectApartMatchesBdpt(loadScene("cornell-glass"), "cornell-glass auto", 256, 64, 16,
+                                 true);
+}
+
+TEST(MltDirect, TheSplitRuleMinimisesTheModelError) {
+    // E(n) = V_d / n + A_c / T_c with the chains' cost T_c fixed and the direct light's n c_d:
+    // for the total T = T_c + n c_d the rule's n is the best split, so no other split of the
+    // same total does better (checked on a grid of totals around it).
+    const double vd = 40, cd = 300, ec = 0.02, tc = 1e6;
+    const uint64_t n = neymanDirectSpp(vd, cd, ec, tc, 1, 1 << 20);
+    EXPECT_NEAR(double(n), std::ceil(std::sqrt(vd * tc / (ec * cd))), 0.0);
+    const double total = tc + double(n) * cd, ac = ec * tc;
+    auto error = [&](double directCost) {
+        return vd * cd / directCost + ac / (total - directCost);
+    };
+    const double best = error(double(n) * cd);
+    for (double f = 0.05; f < 0.95; f += 0.01) EXPECT_LE(best, error(f * total) * (1 + 1e-3)) << f;
+    // The share form is the same rule.
+    EXPECT_NEAR(neymanDirectShare(vd, cd, ec, tc) * total, double(n) * cd, cd);
+    // Nothing measured: the least; no chain error: everything to the direct light.
+    EXPECT_EQ(neymanDirectSpp(vd, cd, 0, tc, 3, 100), 3u);
+    EXPECT_EQ(neymanDirectSpp(vd, cd, ec, tc, 3, 100), 100u);
+    EXPECT_EQ(neymanDirectShare(vd, cd, 0, tc), 1.0);
+    EXPECT_EQ(neymanDirectShare(0, cd, ec, tc), 0.0);
 }
 
 TEST(MltDirect, ClassifiesTheDirectLightTypes) {
@@ -211,12 +247,15 @@ TEST(MltDirect, PerPixelPartAndChainsHaveNoTypeInCommon) {
             [](uint32_t) { return indirectLightOnly(); });
         ProgressReporter progress(observer, "render", "mutations", 0);
         runner.run(progress, 0);
-        LayeredImage c = runner.film(0).resolve(1.0f, 1024);
-        ASSERT_FALSE(c.layers.empty());
-        for (const ImageLayer& layer : c.layers) {
-            PathType t;
-            ASSERT_TRUE(PathType::parse(layer.name, t)) << layer.name;
-            EXPECT_FALSE(isDirectLightType(t)) << name << ": " << layer.name;
+        ASSERT_EQ(start.plan.groups.size(), 2u);  // the two halves of the chains
+        for (uint32_t g = 0; g < 2; ++g) {
+            LayeredImage c = runner.film(g).resolve(1.0f, 1024);
+            ASSERT_FALSE(c.layers.empty());
+            for (const ImageLayer& layer : c.layers) {
+                PathType t;
+                ASSERT_TRUE(PathType::parse(layer.name, t)) << layer.name;
+                EXPECT_FALSE(isDirectLightType(t)) << name << ": " << layer.name;
+            }
         }
     }
 }
@@ -252,37 +291,53 @@ TEST(MltDirect, ChainsModeIsTheImageOfTheCodePathBeforeTheSplit) {
 }
 
 TEST(MltDirect, ThreadCountAndShardsDoNotChangeTheImage) {
-    for (const char* name : {"cornell-point", "cornell-glass"}) {
-        SCOPED_TRACE(name);
-        RenderScene scene = loadScene(name);
-        RenderSettings st = mltSettings(6, 7, "per-pixel");
-        st.parameters.set("direct_spp", 5);
-        const RenderResult two = test::renderWith(scene, "mlt", st, 2);
-        const RenderResult one = test::renderWith(scene, "mlt", st, 1);
-        test::expectSameBits(one.image, two.image);
-        for (uint32_t shards : {2u, 3u}) {
-            ThreadPool pool(shards == 2 ? 1 : 2);
-            std::atomic<bool> cancel{false};
-            RenderObserver observer;
-            ShardEnvironment env{scene, pool, cancel, observer};
-            ShardPlan plan = planShardedRender(env, "mlt", st, shards, "scene", 1);
-            plan = deserializeShardPlan(serializeShardPlan(plan));
-            std::vector<ShardResult> results;
-            for (uint32_t i = 0; i < plan.shards; ++i)
-                results.push_back(
-                    deserializeShardResult(serializeShardResult(renderPlannedShard(env, plan, i))));
-            std::shuffle(results.begin(), results.end(), std::mt19937(shards));
-            ShardMerger merger(plan);
-            for (const ShardResult& r : results) EXPECT_TRUE(merger.add(r));
-            ASSERT_TRUE(merger.complete());
-            const RenderResult merged = resolveShardedRender(env, plan, merger.work());
-            test::expectSameBits(merged.image, two.image);
-            EXPECT_EQ(merged.stats.values.at("rays"), two.stats.values.at("rays"));
-            EXPECT_EQ(merged.stats.values.at("direct_spp"), 5.0);
-            EXPECT_EQ(merged.stats.values.at("mutations"), two.stats.values.at("mutations"));
-            EXPECT_EQ(merged.stats.values.at("direct_share"), two.stats.values.at("direct_share"));
+    for (const char* name : {"cornell-point", "cornell-glass"})
+        for (uint64_t directSpp : {uint64_t(5), uint64_t(0)}) {
+            SCOPED_TRACE(testing::Message() << name << ", direct_spp " << directSpp);
+            RenderScene scene = loadScene(name);
+            RenderSettings st = mltSettings(6, 7, "per-pixel", directSpp);
+            const RenderResult two = test::renderWith(scene, "mlt", st, 2);
+            const RenderResult one = test::renderWith(scene, "mlt", st, 1);
+            test::expectSameBits(one.image, two.image);
+            for (uint32_t shards : {2u, 3u}) {
+                ThreadPool pool(shards == 2 ? 1 : 2);
+                std::atomic<bool> cancel{false};
+                RenderObserver observer;
+                ShardEnvironment env{scene, pool, cancel, observer};
+                ShardPlan plan = planShardedRender(env, "mlt", st, shards, "scene", 1);
+                plan = deserializeShardPlan(serializeShardPlan(plan));
+                std::vector<ShardResult> results;
+                for (uint32_t i = 0; i < plan.shards; ++i)
+                    results.push_back(deserializeShardResult(
+                        serializeShardResult(renderPlannedShard(env, plan, i))));
+                std::shuffle(results.begin(), results.end(), std::mt19937(shards));
+                ShardMerger merger(plan);
+                for (const ShardResult& r : results) EXPECT_TRUE(merger.add(r));
+                ASSERT_TRUE(merger.complete());
+                const RenderResult merged = resolveShardedRender(env, plan, merger.work());
+                test::expectSameBits(merged.image, two.image);
+                EXPECT_EQ(merged.stats.values.at("rays"), two.stats.values.at("rays"));
+                EXPECT_EQ(merged.stats.values.at("direct_spp"), two.stats.values.at("direct_spp"));
+                if (directSpp > 0) {
+                    EXPECT_EQ(merged.stats.values.at("direct_spp"), 5.0);
+                }
+                EXPECT_EQ(merged.stats.values.at("mutations"), two.stats.values.at("mutations"));
+                EXPECT_EQ(merged.stats.values.at("direct_share"),
+                          two.stats.values.at("direct_share"));
+            }
         }
-    }
+}
+
+TEST(MltDirect, ATimeBudgetIsSplitByTheRule) {
+    RenderSettings st = tinySettings(1, 1);
+    st.budgetKind = BudgetKind::Seconds;
+    st.parameters.set("bootstrap", 4000);
+    RenderResult r = test::renderWith(loadScene("cornell-glass"), "mlt", st);
+    EXPECT_GE(r.stats.values["direct_spp"], 1.0);
+    EXPECT_GT(r.stats.values["direct_time_share"], 0.0);
+    EXPECT_LT(r.stats.values["direct_time_share"], 1.0);
+    EXPECT_GT(r.stats.values["mutations"], 0.0);
+    EXPECT_LT(r.stats.values["seconds"], 3.0);
 }
 
 TEST(MltDirect, ATimeBudgetsDirectLightStopsAtItsShare) {
