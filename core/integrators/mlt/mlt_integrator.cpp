@@ -312,8 +312,10 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             const double target = share * total;
             double directSeconds = pilot.seconds;
             ProgressReporter progress(ctx.observer, "render", "samples", 0);
-            while (directSeconds < target && direct.spp < (uint64_t(1) << 20) &&
-                   secondsSince(start) < rs.budget) {
+            // At least one sample per pixel, whatever the share: the chains never see direct
+            // paths, so without it the image would miss them.
+            while (direct.spp == 0 || (directSeconds < target && direct.spp < (uint64_t(1) << 20) &&
+                                       secondsSince(start) < rs.budget)) {
                 ctx.throwIfCancelled();
                 // Passes of about a quarter of a second, never past the share.
                 const double left = std::min(target - directSeconds, 0.25);
