@@ -127,6 +127,7 @@ void DirectLightRenderer::renderTile(int x0, int y0, int x1, int y1, SampleRange
     splats.sampleStarts.assign(1, 0);
     // Sample by sample over the tile's pixels, so that the splats come out in sample order.
     for (uint64_t s = range.first; s < range.end; ++s) {
+        ctx_.throwIfCancelled();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 Film::Pixel pixel = film_.pixel(x, y);

@@ -248,10 +248,13 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations);
     ChainHalves halves;
     if (apart) halves = {{&runner.film(0), &runner.film(1)}, {0, 0}, plan.groups[0].b};
-    auto chainImage = [&](ThreadPool* pool) {
-        if (!apart) return runner.resolveGroup(0, pool);
+    auto countHalves = [&] {
         halves.mutations[0] = runner.mutationsDone(0);
         halves.mutations[1] = runner.mutationsDone(1);
+    };
+    auto chainImage = [&](ThreadPool* pool) {
+        if (!apart) return runner.resolveGroup(0, pool);
+        countHalves();
         return resolveChainHalves(halves, rs, pool);
     };
     // What the previews show of the direct light: its pilot, then all of it.
@@ -285,7 +288,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
         if (!timed) {
             // A mutation budget: all the chains, then the direct light the rule gives them.
             runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
-            chainImage(nullptr);  // the halves' mutation counts
+            countHalves();
             direct = directLightAfterChains(ctx, settings_, halves, double(runner.rays()),
                                             settings_.directSpp == 0 ? &pilot : nullptr);
             startupSeconds = bootstrapSeconds + direct.seconds;
@@ -299,7 +302,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             auto chainsStart = Clock::now();
             runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve);
             const double chainSeconds = secondsSince(chainsStart);
-            chainImage(nullptr);
+            countHalves();
             direct.renderer = std::make_unique<DirectLightRenderer>(ctx);
             direct.variance = pilot.variance;
             direct.pilotRays = pilot.rays;
