@@ -110,6 +110,10 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
     e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
     e.types = anyTypeBlocks(s, pixels);
+    // With the direct light per pixel (the default), the chains splat into two films (two
+    // halves of about the same types, each with half the mutations: sqrt(2) of one film's
+    // blocks) summed into a third to resolve; the direct light's film holds its few types.
+    if (defaults.direct != "chains") e.types *= 2.5;
     return e;
 }
 

@@ -65,7 +65,8 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     EXPECT_EQ(waitForEnd(*stub, pt.id, 60s).state(), pb::JOB_STATE_DONE);
 
     // Its film's type blocks grow with the budget: 300 B sqrt(mpp) a pixel (exact 24-byte
-    // sums), at most 24 kB.
+    // sums), at most 24 kB; 2.5 times that with the direct light per pixel (the default: the
+    // chains in two halves, summed into a third film to resolve).
     TempDir store2;
     Daemon roomy(store2.path(), {"--max-job-memory", "160"});
     ASSERT_TRUE(roomy.running());
@@ -75,9 +76,9 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     pb::JobSpec more = sceneSpec("cornell", 128, 96, 4096);
     more.set_algorithm("mlt");
     more.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
-    Submitted big = submit(*stub2, more);  // 128x96 x 19200 B: 225.0 MiB of type blocks
+    Submitted big = submit(*stub2, more);  // 128x96 x 19200 B x 2.5: 562.5 MiB of type blocks
     EXPECT_EQ(big.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-    EXPECT_NE(big.status.error_message().find("types 225.0 MiB"), std::string::npos)
+    EXPECT_NE(big.status.error_message().find("types 562.5 MiB"), std::string::npos)
         << big.status.error_message();
     EXPECT_EQ(waitForEnd(*stub2, small.id, 60s).state(), pb::JOB_STATE_DONE);
 }
