@@ -23,6 +23,15 @@ Camera::Camera(const CameraDesc& desc, int width, int height)
     pixelHeight_ = 2 * halfHeight_ / float(height);
 }
 
+Camera Camera::resized(int width, int height) const {
+    Camera c = *this;
+    c.width_ = width;
+    c.height_ = height;
+    c.pixelWidth_ = 2 * halfWidth_ / float(width);
+    c.pixelHeight_ = 2 * halfHeight_ / float(height);
+    return c;
+}
+
 Ray Camera::generateRay(Vec2f raster) const {
     float x = -halfWidth_ + raster.x * pixelWidth_;
     float y = halfHeight_ - raster.y * pixelHeight_;

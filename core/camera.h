@@ -15,6 +15,10 @@ class Camera {
   public:
     Camera(const CameraDesc& desc, int width, int height);
 
+    /// The same view and image plane seen through a `width` x `height` raster (a downscaled
+    /// survey of the image; pixels are square when the aspect ratio matches).
+    Camera resized(int width, int height) const;
+
     int width() const { return width_; }
     int height() const { return height_; }
     bool isOrthographic() const { return orthographic_; }

@@ -1,13 +1,15 @@
-// Film storage: a grid of kTileSize x kTileSize tiles. Every tile owns its combined RGB sums and
-// per-type sums for the types that reached it. Edge tiles are allocated full size so that the
-// hot path indexes without clipping.
+// Film storage: a grid of kTileSize x kTileSize tiles. Every tile owns its combined RGB sums,
+// per-type sums for the kept types (type_layers.h) that reached it, and one "other" buffer for
+// every type that is not kept. Edge tiles are allocated full size so that the hot path indexes
+// without clipping.
 //
 // Per-type sums are sparse twice over. A tile keeps only the types that reached it, found through
 // a small hash table (the shipped scenes produce thousands of types, hundreds per tile, so a
-// linear search was a hot spot). And a type's sums live in 4 x 4 pixel blocks, allocated from a
-// per-tile arena when the first sample of that type lands in the block: most types are rare,
-// and a full tile buffer per (tile, type) cost hundreds of megabytes, and the page faults of
-// touching them cost a tenth of the render time.
+// linear search was a hot spot). And a type's sums live in 4 x 4 pixel blocks, allocated when
+// the first sample of that type lands in the block: most types are rare, and a full tile buffer
+// per (tile, type) cost hundreds of megabytes, and the page faults of touching them cost a tenth
+// of the render time. A type's blocks (of every tile) come from one pool of its own, so a
+// layer's memory can be given back at once (takeResolved).
 //
 // Exact sums: a pixel's sums are 64-bit fixed-point integers (Film::kFixedPointBits fraction
 // bits). Every sample is rounded once, on its own, to that grid, and integers add exactly, so a
@@ -29,10 +31,15 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <bitset>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -87,56 +94,92 @@ size_t offsetInBlock(int i) {
     return (y % kBlockSide) * kBlockSide + x % kBlockSide;
 }
 
-/// Zeroed blocks carved out of larger chunks: one allocation per kChunkBlocks blocks, all freed
-/// together. Blocks never move. Chunks are cache-line aligned (a block is three lines), so two
-/// tiles written by different threads never share a line.
-class BlockArena {
+/// Zeroed blocks of one buffer kind (one path type, or "other") across every tile, carved out of
+/// chunks that grow from 4 to 512 blocks; freed all at once, so that the consuming resolve
+/// (Film::takeResolved) gives a layer's memory back as soon as its image is made. Blocks never
+/// move. A block is six cache lines and chunks are line-aligned, so blocks of two tiles written
+/// by different threads never share a line. Thread-safe: the path tracer's threads allocate in
+/// different tiles at once (rarely: a block is allocated once per tile and type).
+class BlockPool {
   public:
     Block* allocate() {
-        if (used_ == kChunkBlocks) {
-            chunks_.push_back(std::make_unique<Chunk>());  // value-initialised: zero
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (used_ == capacity_) {
+            capacity_ = chunks_.empty() ? 4 : std::min<size_t>(512, 2 * capacity_);
+            chunks_.push_back(std::make_unique<LineAlignedBlock[]>(capacity_));  // zeroed
             used_ = 0;
         }
-        return &chunks_.back()->blocks[size_t(used_++)];
+        return &chunks_.back()[used_++].block;
     }
-    void clear() {
+    /// Frees every block (their pointers must not be used again).
+    void release() {
+        std::lock_guard<std::mutex> lock(mutex_);
         chunks_.clear();
-        used_ = kChunkBlocks;
+        used_ = capacity_ = 0;
     }
 
   private:
-    static constexpr int kChunkBlocks = 32;  // 12 KiB
-    struct alignas(64) Chunk {
-        std::array<Block, kChunkBlocks> blocks{};
+    struct alignas(64) LineAlignedBlock {
+        Block block{};
     };
-    std::vector<std::unique_ptr<Chunk>> chunks_;
-    int used_ = kChunkBlocks;
+    static_assert(sizeof(LineAlignedBlock) == sizeof(Block));
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<LineAlignedBlock[]>> chunks_;
+    size_t used_ = 0, capacity_ = 0;
 };
 
 }  // namespace
+
+// The film's block pools: one per type that got a buffer somewhere, one for "other".
+struct Film::Pools {
+    std::mutex mutex;  // guards byType (tiles of several threads add types at once)
+    std::map<PathType, std::unique_ptr<BlockPool>> byType;
+    BlockPool other;
+
+    BlockPool& forType(PathType type) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::unique_ptr<BlockPool>& pool = byType[type];
+        if (!pool) pool = std::make_unique<BlockPool>();
+        return *pool;
+    }
+};
 
 // Aligned so that two tiles written by different threads never share a cache line.
 struct alignas(64) Film::Tile {
     struct TypeBuffer {
         PathType type;
         std::array<Block*, kTileBlocks> blocks{};  // null where no sample of the type landed
+        BlockPool* pool = nullptr;                 // where its blocks come from
     };
 
     TilePixels combined{};
-    std::vector<TypeBuffer> types;
-    std::vector<uint32_t> slots;  // open addressing over `types`: 0 = empty, else index + 1
-    int slotShift = 64;           // 64 - log2(slots.size())
-    BlockArena arena;
+    std::vector<TypeBuffer> types;  // kept types that reached the tile
+    TypeBuffer other;               // every type the film's TypeLayers does not keep
+    std::vector<uint32_t> slots;    // open addressing over `types`: 0 = empty, else index + 1
+    int slotShift = 64;             // 64 - log2(slots.size())
     // In front of the hash table, per number of scattering vertices, the index into `types` of
     // the last type used with that count: a path reports types of increasing length, so this
     // hits unless two types of equal length (differing in which vertices are specular)
     // alternate.
     std::array<uint32_t, PathType::kMaxScatteringVertices + 1> lastByLength{};
+    // Likewise the last type per length that went to "other" (its specular mask; a type is
+    // its length and mask), so that a run of samples of one type the film does not keep asks
+    // the TypeLayers table once.
+    std::array<uint64_t, PathType::kMaxScatteringVertices + 1> lastOtherMask{};
+    std::bitset<PathType::kMaxScatteringVertices + 1> hasLastOther;
 
-    TypeBuffer& bufferFor(PathType type) {
+    /// The buffer of `type`: its own when `layers` keeps it, else "other".
+    TypeBuffer& bufferFor(PathType type, const TypeLayers& layers, Pools& pools) {
         uint32_t& last = lastByLength[size_t(type.scatteringVertices())];
         if (last < types.size() && types[last].type == type) return types[last];
-        TypeBuffer& t = find(type);
+        const size_t length = size_t(type.scatteringVertices());
+        if (hasLastOther[length] && lastOtherMask[length] == type.specularMask()) return other;
+        if (!layers.keeps(type)) {
+            lastOtherMask[length] = type.specularMask();
+            hasLastOther.set(length);
+            return other;
+        }
+        TypeBuffer& t = find(type, pools);
         last = uint32_t(&t - types.data());
         return t;
     }
@@ -144,7 +187,7 @@ struct alignas(64) Film::Tile {
     /// The sum of `t` at tile pixel i, its block allocated if needed.
     FixedRgb& sumAt(TypeBuffer& t, int i) {
         Block*& b = t.blocks[blockOf(i)];
-        if (!b) b = arena.allocate();
+        if (!b) b = t.pool->allocate();
         return (*b)[offsetInBlock(i)];
     }
 
@@ -162,18 +205,20 @@ struct alignas(64) Film::Tile {
             }
     }
 
-    void clear() {
+    void clear(Pools& pools) {
         combined.fill(FixedRgb{});
         types.clear();
+        other = TypeBuffer{};
+        other.pool = &pools.other;
         slots.clear();
         slotShift = 64;
-        arena.clear();
         lastByLength.fill(0);
+        hasLastOther.reset();
     }
 
   private:
     // The hash lookup (and insertion), kept out of line so that bufferFor's cache hit inlines.
-    [[gnu::noinline]] TypeBuffer& find(PathType type) {
+    [[gnu::noinline]] TypeBuffer& find(PathType type, Pools& pools) {
         if (!slots.empty()) {
             const size_t mask = slots.size() - 1;
             for (size_t s = slotOf(type);; s = (s + 1) & mask) {
@@ -182,7 +227,7 @@ struct alignas(64) Film::Tile {
                 if (types[e - 1].type == type) return types[e - 1];
             }
         }
-        types.push_back({type, {}});
+        types.push_back({type, {}, &pools.forType(type)});
         if (2 * types.size() > slots.size()) {
             rehash(std::max<size_t>(16, 4 * types.size()));
         } else {
@@ -211,12 +256,20 @@ struct alignas(64) Film::Tile {
     }
 };
 
-Film::Film(int width, int height) : width_(width), height_(height) {
+Film::Film(int width, int height, TypeLayers layers)
+    : width_(width),
+      height_(height),
+      layers_(std::move(layers)),
+      typeBuffers_(!layers_.keepsNone()),
+      pools_(std::make_unique<Pools>()) {
     if (width < 0 || height < 0)
         throw std::invalid_argument("Film: negative size " + std::to_string(width) + "x" +
                                     std::to_string(height));
     tiles_.resize(size_t(tilesX()) * tilesY());
-    for (auto& t : tiles_) t = std::make_unique<Tile>();
+    for (auto& t : tiles_) {
+        t = std::make_unique<Tile>();
+        t->other.pool = &pools_->other;
+    }
 }
 
 Film::~Film() = default;
@@ -224,6 +277,9 @@ Film::~Film() = default;
 Film::Film(Film&& o) noexcept
     : width_(o.width_),
       height_(o.height_),
+      layers_(o.layers_),
+      typeBuffers_(o.typeBuffers_),
+      pools_(std::move(o.pools_)),
       tiles_(std::move(o.tiles_)),
       dropped_(o.dropped_.load()) {
     o.width_ = o.height_ = 0;
@@ -235,7 +291,10 @@ Film& Film::operator=(Film&& o) noexcept {
     if (this != &o) {
         width_ = o.width_;
         height_ = o.height_;
-        tiles_ = std::move(o.tiles_);
+        layers_ = o.layers_;
+        typeBuffers_ = o.typeBuffers_;
+        tiles_ = std::move(o.tiles_);  // before the pools their buffers point into
+        pools_ = std::move(o.pools_);
         dropped_ = o.dropped_.load();
         o.width_ = o.height_ = 0;
         o.tiles_.clear();
@@ -274,7 +333,9 @@ void Film::Pixel::add(PathType type, Rgb value) {
     if (isBlack(value)) return;
     const FixedRgb fixed = FixedRgb::of(value);
     tile_->combined[size_t(index_)] += fixed;
-    tile_->sumAt(tile_->bufferFor(type), index_) += fixed;
+    // A film that keeps no type has no "other" either: it would repeat the combined sums.
+    if (film_->typeBuffers_)
+        tile_->sumAt(tile_->bufferFor(type, film_->layers_, *film_->pools_), index_) += fixed;
 }
 
 void Film::merge(const Film& other) {
@@ -283,14 +344,19 @@ void Film::merge(const Film& other) {
                                     std::to_string(height_) + " vs " +
                                     std::to_string(other.width_) + "x" +
                                     std::to_string(other.height_) + ")");
+    if (!(other.layers_ == layers_))
+        throw std::invalid_argument("Film::merge: the films keep different type layers");
     if (&other == this) {
         // Doubling in place: adding a film to itself.
         for (auto& tile : tiles_) {
             for (auto& p : tile->combined) p += p;
-            for (auto& t : tile->types)
+            auto doubleBuffer = [](Tile::TypeBuffer& t) {
                 for (Block* b : t.blocks)
                     if (b)
                         for (auto& p : *b) p += p;
+            };
+            for (auto& t : tile->types) doubleBuffer(t);
+            doubleBuffer(tile->other);
         }
         dropped_ += dropped_.load();
         return;
@@ -299,17 +365,20 @@ void Film::merge(const Film& other) {
         Tile& dst = *tiles_[ti];
         const Tile& src = *other.tiles_[ti];
         for (int i = 0; i < kTilePixels; ++i) dst.combined[i] += src.combined[i];
-        for (const auto& t : src.types) {
-            Tile::TypeBuffer& d = dst.bufferFor(t.type);
-            Tile::forEachSum(t, kTileSize, kTileSize,
-                             [&](int i, const FixedRgb& v) { dst.sumAt(d, i) += v; });
-        }
+        auto add = [&](const Tile::TypeBuffer& from, Tile::TypeBuffer& to) {
+            Tile::forEachSum(from, kTileSize, kTileSize,
+                             [&](int i, const FixedRgb& v) { dst.sumAt(to, i) += v; });
+        };
+        for (const auto& t : src.types) add(t, dst.bufferFor(t.type, layers_, *pools_));
+        add(src.other, dst.other);
     }
     dropped_.fetch_add(other.dropped_.load(), std::memory_order_relaxed);
 }
 
 void Film::clear() {
-    for (auto& t : tiles_) t->clear();
+    auto fresh = std::make_unique<Pools>();
+    for (auto& t : tiles_) t->clear(*fresh);
+    pools_ = std::move(fresh);
     dropped_ = 0;
 }
 
@@ -325,33 +394,30 @@ Image Film::resolveCombined(float scale) const {
     return img;
 }
 
-LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) const {
-    // Every step below is either per tile (each tile writes only its own pixels or its own
-    // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
-    // for bit with or without a pool and however the tasks land on threads.
-    auto forEach = [pool](size_t count, const std::function<void(size_t)>& body) {
-        if (pool && count > 1) {
-            pool->parallelFor(count, body);
-        } else {
-            for (size_t i = 0; i < count; ++i) body(i);
-        }
-    };
-    const int tx = tilesX();
-    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
-        x0 = int(ti % size_t(tx)) * kTileSize;
-        y0 = int(ti / size_t(tx)) * kTileSize;
-        w = std::min(kTileSize, width_ - x0);
-        h = std::min(kTileSize, height_ - y0);
-    };
+namespace {
 
-    // Total luminance per type: per tile (in parallel), then summed over tiles in tile order.
-    // std::map keeps the types in PathType order, and the sums run over tiles and pixels in a
-    // fixed order, so the totals do not depend on insertion order.
+/// body(i) for i < count, on the pool's threads when there is one. Callers make every body
+/// write only its own entries, so the result is the same with or without a pool.
+void forEachIndex(ThreadPool* pool, size_t count, const std::function<void(size_t)>& body) {
+    if (pool && count > 1) {
+        pool->parallelFor(count, body);
+    } else {
+        for (size_t i = 0; i < count; ++i) body(i);
+    }
+}
+
+}  // namespace
+
+std::map<PathType, double> Film::typeLuminance(ThreadPool* pool) const {
+    // Per tile (in parallel), then summed over tiles in tile order. std::map keeps the types in
+    // PathType order, and the sums run over tiles and pixels in a fixed order, so the totals do
+    // not depend on the order in which types reached a tile.
     std::vector<std::vector<std::pair<PathType, double>>> tileTotals(tiles_.size());
-    forEach(tiles_.size(), [&](size_t ti) {
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        int x0, y0, w, h;
-        tileRect(ti, x0, y0, w, h);
+        const int x0 = int(ti % size_t(tilesX())) * kTileSize;
+        const int y0 = int(ti / size_t(tilesX())) * kTileSize;
+        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
         auto& sums = tileTotals[ti];
         sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
@@ -364,27 +430,36 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     std::map<PathType, double> totals;
     for (const auto& sums : tileTotals)  // a type occurs at most once per tile
         for (const auto& [type, sum] : sums) totals[type] += sum;
+    return totals;
+}
 
-    // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
-    std::vector<std::pair<PathType, double>> ranked(totals.begin(), totals.end());
-    std::stable_sort(ranked.begin(), ranked.end(),
-                     [](const auto& a, const auto& b) { return a.second > b.second; });
-    const size_t keep = std::min(ranked.size(), size_t(std::max(0, maxTypeLayers)));
-    const bool hasOther = ranked.size() > keep;
+LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) const {
+    // Every step below is either per tile (each tile writes only its own pixels or its own
+    // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
+    // for bit with or without a pool and however the tasks land on threads.
+    const int tx = tilesX();
+    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
+        x0 = int(ti % size_t(tx)) * kTileSize;
+        y0 = int(ti / size_t(tx)) * kTileSize;
+        w = std::min(kTileSize, width_ - x0);
+        h = std::min(kTileSize, height_ - y0);
+    };
 
-    // Layer index per type: 0..keep-1 for the kept types, `keep` for "other".
-    std::map<PathType, size_t> layerOf;
-    for (size_t i = 0; i < ranked.size(); ++i) layerOf[ranked[i].first] = std::min(i, keep);
+    const LayerOrder order = layerOrder(maxTypeLayers, pool);
+    const size_t keep = order.keep;
+    const bool hasOther = order.hasOther;
+    const std::map<PathType, size_t>& layerOf = order.layerOf;
 
     // The images, zeroed in parallel (most of the cost of a fresh image is touching its pages).
     LayeredImage out;
     std::vector<Image> layers(keep + (hasOther ? 1 : 0));
-    forEach(layers.size() + 1,
-            [&](size_t i) { (i == 0 ? out.combined : layers[i - 1]) = Image(width_, height_); });
+    forEachIndex(pool, layers.size() + 1, [&](size_t i) {
+        (i == 0 ? out.combined : layers[i - 1]) = Image(width_, height_);
+    });
 
     // Per tile: the combined image, the unscaled layer sums, then every layer pixel of the tile
     // scaled (as scaling whole images after summing: the same operations per pixel).
-    forEach(tiles_.size(), [&](size_t ti) {
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
         int x0, y0, w, h;
         tileRect(ti, x0, y0, w, h);
@@ -392,18 +467,20 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
             for (int x = 0; x < w; ++x)
                 out.combined.set(x0 + x, y0 + y,
                                  tile.combined[size_t(y * kTileSize + x)].rgb() * scale);
-        // Visit the tile's types in PathType order so that "other" sums in a fixed order.
+        auto addBuffer = [&](const Tile::TypeBuffer& t, Image& dst) {
+            Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
+                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
+            });
+        };
+        // Visit the tile's types in PathType order so that "other" sums in a fixed order, the
+        // types the film does not keep last.
         std::vector<const Tile::TypeBuffer*> sorted;
         sorted.reserve(tile.types.size());
         for (const auto& t : tile.types) sorted.push_back(&t);
         std::sort(sorted.begin(), sorted.end(),
                   [](const auto* a, const auto* b) { return a->type < b->type; });
-        for (const auto* t : sorted) {
-            Image& dst = layers[layerOf.at(t->type)];
-            Tile::forEachSum(*t, w, h, [&](int i, const FixedRgb& v) {
-                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
-            });
-        }
+        for (const auto* t : sorted) addBuffer(*t, layers[layerOf.at(t->type)]);
+        if (hasOther) addBuffer(tile.other, layers[keep]);
         for (auto& img : layers)
             for (int y = y0; y < y0 + h; ++y) {
                 float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
@@ -412,10 +489,87 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     });
 
     out.layers.reserve(layers.size());
-    for (size_t i = 0; i < keep; ++i)
-        out.layers.push_back({ranked[i].first.toString(), std::move(layers[i])});
-    if (hasOther) out.layers.push_back({kOtherLayer, std::move(layers[keep])});
+    for (size_t i = 0; i < layers.size(); ++i)
+        out.layers.push_back({order.name(i), std::move(layers[i])});
     return out;
+}
+
+Film::LayerOrder Film::layerOrder(int maxTypeLayers, ThreadPool* pool) const {
+    // Rank: largest total first, ties by PathType order (stable sort over the ordered map).
+    const std::map<PathType, double> totals = typeLuminance(pool);
+    LayerOrder order;
+    order.ranked.assign(totals.begin(), totals.end());
+    std::stable_sort(order.ranked.begin(), order.ranked.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    order.keep = std::min(order.ranked.size(), size_t(std::max(0, maxTypeLayers)));
+    bool otherBuffers = false;  // a type the film does not keep reached some tile
+    for (const auto& tile : tiles_)
+        for (const Block* b : tile->other.blocks) otherBuffers |= b != nullptr;
+    order.hasOther = order.ranked.size() > order.keep || otherBuffers;
+    for (size_t i = 0; i < order.ranked.size(); ++i)
+        order.layerOf[order.ranked[i].first] = std::min(i, order.keep);
+    return order;
+}
+
+std::string Film::LayerOrder::name(size_t layer) const {
+    return layer < keep ? ranked[layer].first.toString() : std::string(kOtherLayer);
+}
+
+LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool) {
+    // resolve()'s image bit for bit (the same additions per pixel, in the same order), made one
+    // layer at a time; each layer's blocks are given back as soon as its image is made, so the
+    // peak is the film and one layer rather than the film and every layer.
+    const LayerOrder order = layerOrder(maxTypeLayers, pool);
+    const size_t layerCount = order.keep + (order.hasOther ? 1 : 0);
+    const int tx = tilesX();
+    // Per tile, its buffers by (layer, PathType): each layer's in the order resolve adds them.
+    std::vector<std::vector<std::pair<size_t, const Tile::TypeBuffer*>>> byLayer(tiles_.size());
+    forEachIndex(pool, tiles_.size(), [&](size_t ti) {
+        auto& list = byLayer[ti];
+        for (const auto& t : tiles_[ti]->types) list.emplace_back(order.layerOf.at(t.type), &t);
+        std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
+            return a.first != b.first ? a.first < b.first : a.second->type < b.second->type;
+        });
+    });
+    LayeredImage out;
+    out.combined = resolveCombined(scale);
+    for (size_t layer = 0; layer < layerCount; ++layer) {
+        Image img(width_, height_);
+        forEachIndex(pool, tiles_.size(), [&](size_t ti) {
+            const Tile& tile = *tiles_[ti];
+            const int x0 = int(ti % size_t(tx)) * kTileSize, y0 = int(ti / size_t(tx)) * kTileSize;
+            const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+            auto addBuffer = [&](const Tile::TypeBuffer& t) {
+                Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
+                    img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
+                });
+            };
+            const auto& list = byLayer[ti];
+            auto first = std::lower_bound(list.begin(), list.end(), layer,
+                                          [](const auto& e, size_t l) { return e.first < l; });
+            for (auto it = first; it != list.end() && it->first == layer; ++it)
+                addBuffer(*it->second);
+            if (layer == order.keep) addBuffer(tile.other);
+            for (int y = y0; y < y0 + h; ++y) {
+                float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
+                for (int k = 0; k < w * 3; ++k) row[k] *= scale;
+            }
+        });
+        out.layers.push_back({order.name(layer), std::move(img)});
+        releaseLayer(order, layer);
+    }
+    clear();
+    return out;
+}
+
+void Film::releaseLayer(const LayerOrder& order, size_t layer) {
+    // The tiles' block pointers into these pools are not read again: the film is cleared next.
+    for (const auto& [type, l] : order.layerOf)
+        if (l == layer) pools_->byType.erase(type);
+    if (layer == order.keep) pools_->other.release();
+#ifdef __GLIBC__
+    malloc_trim(0);  // freed chunks below the mmap threshold go back to the system too
+#endif
 }
 
 size_t Film::typeCount() const {
@@ -426,11 +580,21 @@ size_t Film::typeCount() const {
     return size_t(std::unique(all.begin(), all.end()) - all.begin());
 }
 
+size_t Film::maxBuffersPerTile() const {
+    size_t most = 0;
+    for (const auto& tile : tiles_) {
+        bool other = false;
+        for (const Block* b : tile->other.blocks) other |= b != nullptr;
+        most = std::max(most, 1 + tile->types.size() + (other ? 1 : 0));
+    }
+    return most;
+}
+
 uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_relaxed); }
 
 namespace {
 constexpr uint32_t kFilmMagic = 0x4d4c4650;  // "PFLM"
-constexpr uint32_t kFilmVersion = 2;         // 2: sums as zigzag varints (a third of the bytes)
+constexpr uint32_t kFilmVersion = 3;  // 2: sums as zigzag varints; 3: type layers and "other"
 
 void putSums(ByteWriter& w, const FixedRgb* sums, size_t count) {
     for (size_t i = 0; i < count; ++i)
@@ -441,17 +605,38 @@ void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
         for (uint64_t& c : sums[i].c) c = uint64_t(r.getSignedVarint());
 }
 
+// Blocks of one buffer: a bit mask of the allocated ones, then those blocks' sums.
+void putBlocks(ByteWriter& w, const std::array<Block*, kTileBlocks>& blocks) {
+    static_assert(kTileBlocks == 16, "the block mask is 16 bits");
+    uint16_t mask = 0;
+    for (size_t b = 0; b < blocks.size(); ++b)
+        if (blocks[b]) mask = uint16_t(mask | (1u << b));
+    w.put(mask);
+    for (const Block* b : blocks)
+        if (b) putSums(w, b->data(), b->size());
+}
+void getBlocks(ByteReader& r, std::array<Block*, kTileBlocks>& blocks, BlockPool& pool) {
+    const uint16_t mask = r.get<uint16_t>();
+    for (size_t b = 0; b < blocks.size(); ++b) {
+        if (!((mask >> b) & 1u)) continue;
+        blocks[b] = pool.allocate();
+        getSums(r, blocks[b]->data(), blocks[b]->size());
+    }
+}
+
 }  // namespace
 
-// Per tile: the combined sums, then the tile's types in PathType order (so that the bytes do
-// not depend on the order in which types reached it), each with a bit mask of its allocated
-// blocks and those blocks. Sums are zigzag varints: most are zero or far below 2^63.
+// The type layers, then per tile: the combined sums, the tile's types in PathType order (so that
+// the bytes do not depend on the order in which types reached it), each with its blocks, and the
+// "other" buffer's blocks. Sums are zigzag varints: most are zero or far below 2^63.
 std::vector<uint8_t> Film::serialize() const {
     ByteWriter w;
+    w.bytes.reserve(size_t(width_) * size_t(height_) * 3 + 64);  // combined sums: >= 1 B each
     w.putHeader(kFilmMagic, kFilmVersion);
     w.put(int32_t(width_));
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
+    layers_.serialize(w);
     for (const auto& tile : tiles_) {
         putSums(w, tile->combined.data(), tile->combined.size());
         std::vector<const Tile::TypeBuffer*> sorted;
@@ -461,25 +646,21 @@ std::vector<uint8_t> Film::serialize() const {
         w.put(uint32_t(sorted.size()));
         for (const auto* t : sorted) {
             putPathType(w, t->type);
-            uint16_t mask = 0;
-            for (size_t b = 0; b < t->blocks.size(); ++b)
-                if (t->blocks[b]) mask = uint16_t(mask | (1u << b));
-            w.put(mask);
-            for (const Block* b : t->blocks)
-                if (b) putSums(w, b->data(), b->size());
+            putBlocks(w, t->blocks);
         }
+        putBlocks(w, tile->other.blocks);
     }
     return std::move(w.bytes);
 }
 
 Film Film::deserialize(std::span<const uint8_t> bytes) {
-    static_assert(kTileBlocks == 16, "the block mask is 16 bits");
     ByteReader r(bytes, "film");
     r.expectHeader(kFilmMagic, kFilmVersion, "film");
     int32_t w = r.get<int32_t>(), h = r.get<int32_t>();
     if (w < 0 || h < 0 || int64_t(w) * h > (int64_t(1) << 28)) r.fail("bad size");
-    Film film(w, h);
-    film.dropped_ = r.get<uint64_t>();
+    const uint64_t dropped = r.get<uint64_t>();
+    Film film(w, h, TypeLayers::deserialize(r));
+    film.dropped_ = dropped;
     for (auto& tile : film.tiles_) {
         getSums(r, tile->combined.data(), tile->combined.size());
         uint32_t types = r.get<uint32_t>();
@@ -487,14 +668,11 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
             const PathType type = getPathType(r);
             if (!tile->types.empty() && !(tile->types.back().type < type))
                 r.fail("types out of order");
-            Tile::TypeBuffer& buffer = tile->bufferFor(type);
-            uint16_t mask = r.get<uint16_t>();
-            for (size_t b = 0; b < buffer.blocks.size(); ++b) {
-                if (!((mask >> b) & 1u)) continue;
-                buffer.blocks[b] = tile->arena.allocate();
-                getSums(r, buffer.blocks[b]->data(), buffer.blocks[b]->size());
-            }
+            if (!film.layers_.keeps(type)) r.fail("a type the film does not keep");
+            Tile::TypeBuffer& buffer = tile->bufferFor(type, film.layers_, *film.pools_);
+            getBlocks(r, buffer.blocks, *buffer.pool);
         }
+        getBlocks(r, tile->other.blocks, *tile->other.pool);
     }
     if (!r.atEnd()) r.fail("trailing bytes");
     return film;

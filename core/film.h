@@ -1,9 +1,12 @@
 // The film: accumulates path contributions into a combined image and one image per path type.
 //
-// Storage is tiled and sparse in types: each tile keeps a buffer only for the types that
-// actually reached it, so memory follows the types that occur, not the combinatorial number of
-// strings. `resolve` keeps the `maxTypeLayers` types with the largest total luminance (ties
-// broken by type order, so the result is deterministic) and merges the rest into "other".
+// Which types get a buffer of their own is fixed when the film is made (type_layers.h): a set
+// chosen before the render, every other type summed into one "other" buffer, so a tile holds at
+// most (kept types + 2) buffers whatever the scene and the samples (issue #24); or every type
+// that occurs (TypeLayers::every(), tests and tools). Storage is tiled and sparse in types: each
+// tile keeps a buffer only for the kept types that actually reached it. `resolve` keeps the
+// `maxTypeLayers` of them with the largest total luminance (ties broken by type order, so the
+// result is deterministic) and merges the rest, and the "other" buffer, into "other".
 //
 // Thread safety: concurrent addSample calls are safe when they touch different tiles (the path
 // tracer renders whole tiles per task). Algorithms that splat anywhere (MLT) give each thread
@@ -12,13 +15,16 @@
 
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "image.h"
 #include "math/vec.h"
 #include "path_type.h"
+#include "type_layers.h"
 
 namespace partita {
 
@@ -39,7 +45,8 @@ class Film {
     static constexpr int kBytesPerSum = 24;
     static constexpr const char* kOtherLayer = "other";
 
-    Film(int width, int height);
+    /// A film keeping a layer of the types `layers` names (every type by default).
+    Film(int width, int height, TypeLayers layers = TypeLayers::every());
     ~Film();
     Film(Film&&) noexcept;
     Film& operator=(Film&&) noexcept;
@@ -48,6 +55,7 @@ class Film {
     int height() const { return height_; }
     int tilesX() const { return (width_ + kTileSize - 1) / kTileSize; }
     int tilesY() const { return (height_ + kTileSize - 1) / kTileSize; }
+    const TypeLayers& layers() const { return layers_; }
 
     /// Add `value` of a path of `type` to pixel (x, y). Non-finite values (and components above
     /// kMaxSampleValue) are dropped and counted.
@@ -72,8 +80,8 @@ class Film {
     /// Pixel (x, y), which must lie inside the film (std::out_of_range otherwise).
     Pixel pixel(int x, int y);
 
-    /// Sum another film of the same size into this one (std::invalid_argument otherwise), the
-    /// dropped-sample counts included.
+    /// Sum another film of the same size and type layers into this one (std::invalid_argument
+    /// otherwise), the dropped-sample counts included.
     void merge(const Film& other);
     void clear();
 
@@ -84,6 +92,10 @@ class Film {
     /// a tile or of samples within a pixel (the sums are exact). With a `pool`,
     /// the work is spread over its threads, for the same result bit for bit.
     LayeredImage resolve(float scale, int maxTypeLayers, ThreadPool* pool = nullptr) const;
+    /// resolve()'s image bit for bit, consuming the film: each layer's memory is given back as
+    /// soon as its image is made (a render's final image: its peak is the film and one layer,
+    /// not the film and every layer). The film is empty afterwards.
+    LayeredImage takeResolved(float scale, int maxTypeLayers, ThreadPool* pool = nullptr);
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
 
@@ -93,12 +105,35 @@ class Film {
     std::vector<uint8_t> serialize() const;
     static Film deserialize(std::span<const uint8_t> bytes);
 
-    /// Number of distinct path types seen so far and of dropped non-finite samples.
+    /// Per kept type that occurred, the total luminance of its sums (unscaled), in PathType
+    /// order; the types in "other" are not told apart. The same with or without a `pool`.
+    std::map<PathType, double> typeLuminance(ThreadPool* pool = nullptr) const;
+
+    /// Number of distinct kept path types seen so far and of dropped non-finite samples.
     size_t typeCount() const;
+    /// The most sum buffers one tile holds: its combined buffer, its kept types' and its
+    /// "other" buffer when a sample landed there (at most types().size() + 2 when bounded).
+    size_t maxBuffersPerTile() const;
     uint64_t droppedSamples() const;
 
   private:
+    struct Pools;
+    /// The layers resolve makes: the kept types ranked by total luminance (ties by PathType
+    /// order), the first `keep` of them layers of their own, then "other" when anything is left.
+    struct LayerOrder {
+        std::vector<std::pair<PathType, double>> ranked;
+        size_t keep = 0;
+        bool hasOther = false;
+        std::map<PathType, size_t> layerOf;  // 0..keep-1, or keep for "other"
+        std::string name(size_t layer) const;
+    };
+    LayerOrder layerOrder(int maxTypeLayers, ThreadPool* pool) const;
+    /// Frees the blocks of the types of `layer` (takeResolved).
+    void releaseLayer(const LayerOrder& order, size_t layer);
     int width_ = 0, height_ = 0;
+    TypeLayers layers_;
+    bool typeBuffers_ = true;       // false when layers_ keeps no type: the combined sums only
+    std::unique_ptr<Pools> pools_;  // the type buffers' blocks (film.cpp)
     std::vector<std::unique_ptr<Tile>> tiles_;
     std::atomic<uint64_t> dropped_{0};  // non-finite samples, counted off the hot path
     Tile& tileFor(int x, int y);

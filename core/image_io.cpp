@@ -179,6 +179,21 @@ const SrgbTable& srgbTable() {
     return table;
 }
 
+/// Rows an EXR is written in at a time (a multiple of the 16 rows of a zip block).
+constexpr int kExrStripRows = 64;
+
+/// Rows [y0, y1) of the combined image and the layers, pixel by pixel with all nch channels.
+void interleaveRows(const LayeredImage& image, int y0, int y1, size_t nch, float* out) {
+    const size_t w = size_t(image.combined.width);
+    for (size_t p = size_t(y0) * w; p < size_t(y1) * w; ++p) {
+        float* dst = out + (p - size_t(y0) * w) * nch;
+        for (int k = 0; k < 3; ++k) dst[k] = image.combined.rgb[p * 3 + size_t(k)];
+        for (size_t l = 0; l < image.layers.size(); ++l)
+            for (int k = 0; k < 3; ++k)
+                dst[3 + l * 3 + size_t(k)] = image.layers[l].image.rgb[p * 3 + size_t(k)];
+    }
+}
+
 }  // namespace
 
 void writeExr(const fs::path& path, const LayeredImage& image,
@@ -206,17 +221,7 @@ void writeExr(const fs::path& path, const LayeredImage& image,
         order += (order.empty() ? "" : ",") + layer.name;
     }
 
-    // Interleave all channels of a pixel, as OIIO expects.
-    const size_t nch = channels.size(), npix = size_t(w) * h;
-    std::vector<float> data(npix * nch);
-    for (size_t p = 0; p < npix; ++p) {
-        float* dst = &data[p * nch];
-        for (int k = 0; k < 3; ++k) dst[k] = image.combined.rgb[p * 3 + k];
-        for (size_t l = 0; l < image.layers.size(); ++l)
-            for (int k = 0; k < 3; ++k) dst[3 + l * 3 + k] = image.layers[l].image.rgb[p * 3 + k];
-    }
-
-    OIIO::ImageSpec spec(w, h, int(nch), OIIO::TypeDesc::FLOAT);
+    OIIO::ImageSpec spec(w, h, int(channels.size()), OIIO::TypeDesc::FLOAT);
     spec.channelnames = channels;
     spec.attribute("compression", "zip");
     for (const auto& [key, value] : metadata) spec.attribute(key, value);
@@ -227,10 +232,19 @@ void writeExr(const fs::path& path, const LayeredImage& image,
         auto out = OIIO::ImageOutput::create("exr");
         if (!out) return "no EXR writer: " + oiioError(out.get());
         if (!out->open(tmp.string(), spec)) return oiioError(out.get());
-        if (!out->write_image(OIIO::TypeDesc::FLOAT, data.data())) {
-            std::string e = oiioError(out.get());
-            out->close();
-            return e;
+        // A strip of rows at a time, every channel of a pixel interleaved as OIIO expects: a
+        // copy of the whole image would double the memory of a many-layer render at its end.
+        const size_t nch = channels.size();
+        std::vector<float> strip;
+        for (int y0 = 0; y0 < h; y0 += kExrStripRows) {
+            const int y1 = std::min(h, y0 + kExrStripRows);
+            strip.resize(size_t(y1 - y0) * size_t(w) * nch);
+            interleaveRows(image, y0, y1, nch, strip.data());
+            if (!out->write_scanlines(y0, y1, 0, OIIO::TypeDesc::FLOAT, strip.data())) {
+                std::string e = oiioError(out.get());
+                out->close();
+                return e;
+            }
         }
         if (!out->close()) return oiioError(out.get());
         return {};

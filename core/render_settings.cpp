@@ -31,7 +31,8 @@ SettingsTable<RenderSettings> makeSharedParameters() {
               .atLeast(1),
           &S::maxDepth);
     t.add(ParameterSpec("layers",
-                        "path-type layers kept in the EXR before the rest merge into 'other'")
+                        "path types kept as layers of their own (the largest, chosen before the "
+                        "render); the rest sum into 'other'")
               .within(0, 1024),
           &S::maxTypeLayers);
     t.add(ParameterSpec("preview_interval", "seconds between preview frames (0: none)")

@@ -40,7 +40,13 @@ struct RenderSettings {
 
     EnvironmentSettings environment;
 
-    int maxTypeLayers = 32;  // film layers kept before the rest merge into "other"
+    /// Path types with a layer of their own, chosen before the render (type_layer_rule.h); the
+    /// rest sum into "other". Parameter "layers".
+    int maxTypeLayers = 32;
+    /// Keep a layer for every type that occurs, whatever maxTypeLayers: the film then grows
+    /// with the scene's types (tests and tools comparing estimators type by type on tiny
+    /// images; not a job parameter).
+    bool everyTypeLayer = false;
     double previewIntervalSeconds = 1.0;
 
     /// The algorithm's own parameters (those its registry entry declares: k, y, radius, ...) as

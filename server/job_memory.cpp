@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "film.h"
+#include "integrators/layer_survey.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "integrators/partitioned/partitioned_settings.h"
 #include "mcmc/bootstrap.h"
@@ -16,12 +17,17 @@ namespace partita::server {
 
 namespace {
 
-// A film keeps exact 24-byte sums (film.h, Film::kBytesPerSum). The per-pixel figures below
-// that were measured with the earlier 12-byte float sums are doubled (marked "x2").
+// A film keeps exact 24-byte sums (film.h, Film::kBytesPerSum): its combined ones for every
+// pixel (tiles padded to 16x16), and those of its kept types and "other" where they occur
+// (type_layers.h: at most `layers` + 1 buffers a pixel, whatever the scene and the budget).
+// The kept types are the largest ones, but not every one reaches every pixel: on bathroom
+// (pt, 1920x1080, 32 layers) the 33 type buffers held 0.53 of the dense size. Counted at
+// kTypeCoverage of it.
 constexpr double kSum = Film::kBytesPerSum;
-constexpr double kFilmCombined = kSum, kFilmTypeAllowance = 2 * kSum;  // bytes per pixel
-constexpr double kLayerCopies = 3 * 12 + 12 + 1;                       // bytes per pixel and layer
-constexpr double kPartition = 12;  // bytes per pixel and partition
+constexpr double kTypeCoverage = 0.6;
+constexpr double kImageLayer = 12;        // a resolved layer: dense float RGB, bytes per pixel
+constexpr double kPreviewExtra = 12 + 1;  // the raw preview watchers share and its PNG
+constexpr double kPartition = 12;         // bytes per pixel and partition image
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
@@ -29,17 +35,26 @@ bool hasPartitions(const std::string& algorithm) {
     return algorithm == "partitioned" || algorithm == "guided";
 }
 
-/// Films an algorithm holds at once: bdpt keeps a camera film and a light-tracing film and sums
-/// them into a third to resolve; mlt splats every chain into one film, round by round, in chain
-/// order; partitioned and guided have one film per partition group (K and the complement).
 /// K of a partitioned method's job (its parameter "k", or the default).
 int partitionsOf(const RenderSettings& s) {
     return partitionedParameters().resolve(s.parameters).k;
 }
 
+/// Films an algorithm holds at once: pt, bdpt and mlt one (bdpt's light tracing splats into
+/// its camera film), partitioned and guided one per partition group (K and the complement),
+/// which keep no type layers. mlt with the direct light per pixel (its default) four: the
+/// chains' two halves, their sum to resolve, the direct light's film.
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
     if (hasPartitions(algorithm)) return std::max(0, partitionsOf(s)) + 1;
-    return algorithm == "bdpt" ? 3 : 1;
+    if (algorithm == "mlt" && mltParameters().resolve(s.parameters).direct != "chains") return 4;
+    return 1;
+}
+
+/// Type buffers a pixel of the film may hold: the kept types and "other" (none for the
+/// partitions' films, nor with 0 layers).
+int typeBuffers(const std::string& algorithm, const RenderSettings& s) {
+    if (hasPartitions(algorithm) || s.maxTypeLayers <= 0) return 0;
+    return std::min(s.maxTypeLayers, 1024) + 1;
 }
 
 /// guided's guides (core/guide/): what it keeps, the G-buffer (40 B a pixel) and one bit a
@@ -52,20 +67,13 @@ double guideBytes(int partitions, double pixels) {
     return kept + denoising;
 }
 
-/// bdpt's own extra memory. Its films hold far more distinct types per pixel than pt's (every
-/// (s, t) strategy combines a camera prefix with a light suffix, and light tracing scatters long
-/// types everywhere), and their sparse type blocks fill up as samples accumulate: measured on
-/// cornell-glass (~1000 types) at 512x384, 1.6 KB a pixel at 1 spp, 3.1 at 4, 6.3 at 16, so
-/// about 1.6 KB sqrt(spp), bounded by what ~1000 types of 12 B a pixel in two films can take.
-/// Time budgets are counted at that bound. Plus the per-pass light-tracing splats: passes are
-/// kept to 2^18 pixel samples, each leaving a few splats of 40 bytes (4 tent copies of 32 bytes
-/// while they are summed).
-double bdptExtraBytes(const RenderSettings& s, double pixels) {
-    double perPixelCap = 2 * 24000;  // x2
-    double spp = s.budgetKind == BudgetKind::Seconds ? 1e9 : s.budget;
-    double films = pixels * std::min(2 * 1600 * std::sqrt(std::max(1.0, spp)), perPixelCap);
-    double splats = std::min(pixels, double(1 << 18)) * 4 * (40 + 4 * 32) + pixels * 4;
-    return films + splats;
+/// bdpt's light-tracing splats: a pass is rendered in batches of 256 tiles (65536 pixels) of
+/// at most 2^18 pixel samples, each leaving a few splats of 40 bytes (4 tent copies of 32 bytes,
+/// twice, while they are summed), and a start index per pixel for their sort.
+double bdptExtraBytes(double pixels) {
+    const double passSpp = std::max(1.0, std::floor(double(1 << 18) / std::max(1.0, pixels)));
+    const double batchSamples = std::min(pixels, 65536.0) * passSpp;
+    return batchSamples * 4 * (40 + 2 * 4 * 32) + pixels * 4;
 }
 
 /// mlt's own extra memory, with the defaults of MltSettings (integrators/mlt/mlt_settings.h):
@@ -75,15 +83,10 @@ double bdptExtraBytes(const RenderSettings& s, double pixels) {
 ///   lives on through the render. Counted as one list of 14 records a sample (cornell at 2^20
 ///   samples: 503 MiB of growth against 599 estimated);
 /// - each chain's splats of one round (2 per mutation, 40 B: raster, type, value), and its
-///   state: two paths of up to max depth + 2 vertices and the mutations' scratch, ~16 KiB;
-/// - the film's type blocks: chains splat every type anywhere, so tiles gather types as the
-///   mutations accumulate: measured on cornell-glass (peak RSS over mpp 1), 140 B a pixel at 4
-///   mpp and 225 at 16 (512x384), 190 at 64 and 770 at 256 (128x96): counted as 150 B
-///   sqrt(mpp), bounded by what ~1000 types of 12 B a pixel can take (time budgets at that
-///   bound).
+///   state: two paths of up to max depth + 2 vertices and the mutations' scratch, ~16 KiB.
 /// The job's own settings (its bootstrap samples, chains) count, with the defaults for the rest.
 struct MltExtra {
-    double bootstrap, chains, types;
+    double bootstrap, chains;
 };
 
 /// The chains' splats and states (as above), for `chains` chains of rounds of `roundMutations`.
@@ -96,12 +99,6 @@ double chainBytes(int chains, uint64_t roundMutations, double pixels) {
     return double(chains) * (splats + kChainStateBytes) + buffer;
 }
 
-/// The type blocks of a film that every type splats into (mlt's film, as above).
-double anyTypeBlocks(const RenderSettings& s, double pixels) {
-    double mpp = s.budgetKind == BudgetKind::Seconds ? 1e12 : s.budget;
-    return pixels * std::min(2 * 150 * std::sqrt(std::max(1.0, mpp)), 2 * 12000.0);  // x2
-}
-
 MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
     const MltSettings defaults = mltParameters().resolve(s.parameters);
     constexpr double kCandidateBytes = sizeof(BootstrapCandidate);
@@ -109,11 +106,6 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
     MltExtra e;
     e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
-    e.types = anyTypeBlocks(s, pixels);
-    // With the direct light per pixel (the default), the chains splat into two films (two
-    // halves of about the same types, each with half the mutations: sqrt(2) of one film's
-    // blocks) summed into a third to resolve; the direct light's film holds its few types.
-    if (defaults.direct != "chains") e.types *= 2.5;
     return e;
 }
 
@@ -121,9 +113,7 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
 /// (integrators/partitioned/partitioned_settings.h), besides its K + 1 films:
 /// - the pre-pass's half-B records, 40 B each (partition/prepass.h), ~13 a sample as measured
 ///   for mlt's bootstrap, for half the samples, at most the pre-pass's memory budget;
-/// - the chains' splats and states as for mlt (the same number of chains over all partitions);
-/// - the complement's film gathers every other type as mlt's film does; a partition's film
-///   holds one type mostly, which the film allowance covers.
+/// - the chains' splats and states as for mlt (the same number of chains over all partitions).
 MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
     const PartitionedSettings defaults = partitionedParameters().resolve(s.parameters);
     constexpr double kRecordsPerSample = 13, kRecordBytes = sizeof(BootstrapCandidate);
@@ -132,7 +122,6 @@ MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
     e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,
                            double(defaults.prepassMemoryBytes));
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
-    e.types = anyTypeBlocks(s, pixels);
     return e;
 }
 
@@ -160,41 +149,50 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double pixels = double(s.width) * s.height;
     int films = filmCount(algorithm, s);
     int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
-    // The result's images: the combined one and "other" besides the type layers; for the
-    // partitioned methods one a partition (K + 1) and the combined one, while each partition's
-    // film is resolved with its type layers one partition at a time.
-    int typeLayers = std::max(0, s.maxTypeLayers) + 2;
-    int layers = partitions > 0 ? partitions + 1 + typeLayers : typeLayers;
+    // The resolved images: the combined one and the type layers with "other"; for the
+    // partitioned methods one a partition (K + 1) and the combined one.
+    int typeLayers = typeBuffers(algorithm, s);
+    int layers = 1 + (partitions > 0 ? partitions : typeLayers);
 
-    double film = films * padded * (kFilmCombined + kFilmTypeAllowance);
-    double images = layers * pixels * kLayerCopies;
+    // The film, and what the job holds beside it: the latest preview frame for watchers (when
+    // it sends previews), its raw form and PNG. The final image is made as the film is
+    // consumed (Film::takeResolved), so the two are counted as the larger, not their sum.
+    double film = padded * kSum * (films + kTypeCoverage * typeLayers);
+    double finalImage = layers * pixels * kImageLayer;
+    double preview =
+        s.previewIntervalSeconds > 0 ? layers * pixels * kImageLayer + pixels * kPreviewExtra : 0;
+    double images = preview + std::max(0.0, finalImage - film);
     double parts = partitions * pixels * kPartition;
     double scene = kSceneFactor * double(sceneBytes);
-    double splats = algorithm == "bdpt" ? bdptExtraBytes(s, pixels) : 0;
-    MltExtra mlt{0, 0, 0};
+    double splats = algorithm == "bdpt" ? bdptExtraBytes(pixels) : 0;
+    // pt's and bdpt's layer survey (integrators/layer_survey.h): a film of every type over at
+    // most kSurveyPixels pixels, allowed 128 type buffers a pixel.
+    double survey = (algorithm == "pt" || algorithm == "bdpt") && typeLayers > 0
+                        ? std::min(pixels, double(kSurveyPixels)) * kSum * 128
+                        : 0;
+    MltExtra mlt{0, 0};
     if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
     if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s, pixels);
-    double mltBytes = mlt.bootstrap + mlt.chains + mlt.types;
+    double mltBytes = mlt.bootstrap + mlt.chains;
     double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
     // An environment image while it loads: the decoded channels (4 B each), its RGB copy and
     // the map's importance tables (environment_map.h: 12 + 8 B a pixel).
     double sky = double(environment.pixels()) * (4.0 * environment.channels + 20);
     MemoryEstimate e;
-    e.bytes =
-        uint64_t(film + images + parts + splats + mltBytes + guides + scene + sky + kBaseline);
+    e.bytes = uint64_t(film + images + parts + splats + survey + mltBytes + guides + scene + sky +
+                       kBaseline);
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s, %d layers %s", s.width, s.height, films,
-                  films == 1 ? "" : "s", humanBytes(film).c_str(), layers,
-                  humanBytes(images).c_str());
+    std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s (%d type buffers), %d layers %s", s.width,
+                  s.height, films, films == 1 ? "" : "s", humanBytes(film).c_str(), typeLayers,
+                  layers, humanBytes(images).c_str());
     e.breakdown = buf;
     if (partitions > 0)
         e.breakdown += ", " + std::to_string(partitions) + " partitions " + humanBytes(parts);
-    if (splats > 0) e.breakdown += ", bdpt types and splats " + humanBytes(splats);
+    if (survey > 0) e.breakdown += ", layer survey " + humanBytes(survey);
+    if (splats > 0) e.breakdown += ", bdpt splats " + humanBytes(splats);
     if (mltBytes > 0)
         e.breakdown += (hasPartitions(algorithm) ? ", pre-pass records " : ", mlt bootstrap ") +
-                       humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains) +
-                       (hasPartitions(algorithm) ? ", complement types " : ", types ") +
-                       humanBytes(mlt.types);
+                       humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains);
     if (guides > 0) e.breakdown += ", guides " + humanBytes(guides);
     e.breakdown += ", scene " + humanBytes(scene);
     if (sky > 0) e.breakdown += ", environment " + humanBytes(sky);

@@ -3,17 +3,17 @@
 // kernel with every running job. An upper estimate from the settings alone, checked against
 // measured peaks (server/README.md "Memory"):
 //
-// - the accumulation film: combined sums (12 B/pixel, tiles padded to 16x16) plus the sparse
-//   per-type blocks (an allowance of 24 B/pixel); guided keeps one film per render thread,
-//   partitioned one per partition (K + 1, the complement's type blocks growing with the budget
-//   like mlt's), bdpt three; bdpt's and mlt's type blocks grow with the budget (counted
-//   apart), and mlt adds its bootstrap's candidates and its chains' splats and states,
-//   partitioned its pre-pass's half-B records (40 B, ~13 a sample, half the samples) and the
-//   same chains;
-// - every resolved layer (combined, up to max_type_layers types, "other") is a dense float RGB
-//   image, 12 B/pixel, alive in up to three copies at the peak: the latest preview frame the job
-//   holds for watchers, the final image, and the EXR writer's interleaved buffer; plus one
-//   serialized raw preview shared by raw watchers (12 B/pixel) and its PNGs (~1 B/pixel);
+// - the accumulation film: exact sums, 24 B/pixel (tiles padded to 16x16), the combined ones
+//   and those of the kept type layers and "other" (a bound: `layers` + 1 buffers, counted at
+//   the coverage measured on bathroom); one film for pt, bdpt and mlt, one per partition
+//   (K + 1) without type layers for partitioned and guided; pt's and bdpt's layer survey;
+//   bdpt's light-tracing splats of a batch of tiles; mlt's bootstrap candidates and its chains'
+//   splats and states; partitioned's pre-pass half-B records (40 B, ~13 a sample, half the
+//   samples) and the same chains;
+// - every resolved layer (combined, the type layers, "other") is a dense float RGB image,
+//   12 B/pixel: the latest preview frame the job holds for watchers (with its raw form and
+//   PNG), and the final image, which is made as the film is consumed (the larger of the two
+//   counts, not their sum);
 // - partitions (K images of 12 B/pixel; partitioned K + 1) for the partitioned methods;
 // - the scene: four times its file bytes (parsed arrays, render copies, BVH).
 #pragma once

@@ -4,7 +4,9 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "byte_stream.h"
 #include "clock.h"
+#include "integrators/layer_survey.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
 
@@ -54,8 +56,9 @@ class SamplePassLoop {
         }
         progress.flush();
         RenderResult result;
-        result.image = renderer_.resolve(std::max<uint64_t>(1, sppDone_), nullptr);
-        result.stats = stats(secondsSince(start_));
+        result.stats = stats(secondsSince(start_));  // before the film is consumed
+        result.image = renderer_.takeResolved(std::max<uint64_t>(1, sppDone_), &ctx_.pool);
+        result.stats.values["seconds"] = secondsSince(start_);
         return result;
     }
 
@@ -102,6 +105,12 @@ RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& rende
     return SamplePassLoop(ctx, renderer).run();
 }
 
+RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory) {
+    const TypeLayers layers = surveyTypeLayers(ctx, factory);
+    std::unique_ptr<SamplePassRenderer> renderer = factory(ctx, layers);
+    return runSamplePasses(ctx, *renderer);
+}
+
 namespace {
 
 uint64_t sampleBudget(const RenderContext& ctx) {
@@ -112,21 +121,37 @@ uint64_t sampleBudget(const RenderContext& ctx) {
     return uint64_t(ctx.settings.budget);
 }
 
+constexpr uint32_t kPlanMagic = 0x4c505350;  // "PSPL"
+constexpr uint32_t kPlanVersion = 1;
+
+TypeLayers planLayers(std::span<const uint8_t> plan) {
+    ByteReader r(plan, "sample-pass plan");
+    r.expectHeader(kPlanMagic, kPlanVersion, "sample-pass plan");
+    TypeLayers layers = TypeLayers::deserialize(r);
+    if (!r.atEnd()) r.fail("trailing bytes");
+    return layers;
+}
+
 }  // namespace
 
 std::vector<uint8_t> SamplePassShards::plan(const RenderContext& ctx) {
-    sampleBudget(ctx);  // nothing to do once: every (pixel, sample) has its own stream
-    return {};
+    sampleBudget(ctx);
+    // The only thing fixed once: which types keep a layer. Every (pixel, sample) has its own
+    // stream.
+    ByteWriter w;
+    w.putHeader(kPlanMagic, kPlanVersion);
+    surveyTypeLayers(ctx, factory_).serialize(w);
+    return std::move(w.bytes);
 }
 
 uint32_t SamplePassShards::maxShards(const RenderContext& ctx, std::span<const uint8_t>) const {
     return uint32_t(std::min<uint64_t>(sampleBudget(ctx), UINT32_MAX));
 }
 
-ShardWork SamplePassShards::renderShard(const RenderContext& ctx, std::span<const uint8_t>,
+ShardWork SamplePassShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> plan,
                                         uint32_t shard, uint32_t shards) {
     const ShareRange share = shareRange(sampleBudget(ctx), shards, shard);
-    std::unique_ptr<SamplePassRenderer> renderer = factory_(ctx);
+    std::unique_ptr<SamplePassRenderer> renderer = factory_(ctx, planLayers(plan));
     const double pixels = double(ctx.settings.width) * ctx.settings.height;
     ProgressReporter progress(ctx.observer, "render", "samples", pixels * double(share.count()));
     const uint64_t passSpp = std::max<uint64_t>(1, renderer->maxPassSamples());

@@ -31,6 +31,11 @@ class SamplePassRenderer {
     virtual void renderPass(SampleRange range, ProgressReporter& progress) = 0;
     /// The image after `samples` samples per pixel; `pool` may be used to resolve it.
     virtual LayeredImage resolve(uint64_t samples, ThreadPool* pool) const = 0;
+    /// resolve()'s image at the end of the render, bit for bit; a renderer may consume its film
+    /// to make it (Film::takeResolved), so nothing but this is called afterwards.
+    virtual LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) {
+        return resolve(samples, pool);
+    }
     /// The integrator's own statistics (rays, types, ...); the loop adds spp and timings.
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).
@@ -41,16 +46,24 @@ class SamplePassRenderer {
     virtual Film takeFilm() { return film(); }
 };
 
+/// Makes an integrator's renderer for ctx, its film keeping `layers` (type_layers.h).
+using SamplePassFactory = std::function<std::unique_ptr<SamplePassRenderer>(
+    const RenderContext& ctx, const TypeLayers& layers)>;
+
 /// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress.
 RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer);
 
+/// A whole render: the type layers from the survey (layer_survey.h), then the renderer the
+/// factory makes for them, run by runSamplePasses.
+RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory);
+
 /// The shards of a sample-based integrator: shard i of n renders a contiguous range of sample
 /// indices of every pixel (shareRange of the samples per pixel). Every (pixel, sample) has its
-/// own random stream and the film sums exactly, so the merged film is the one-process film.
+/// own random stream and the film sums exactly, so the merged film is the one-process film. The
+/// plan is the type layers (chosen once, by the survey).
 class SamplePassShards : public Shardable {
   public:
-    using Factory = std::function<std::unique_ptr<SamplePassRenderer>(const RenderContext&)>;
-    explicit SamplePassShards(Factory factory) : factory_(std::move(factory)) {}
+    explicit SamplePassShards(SamplePassFactory factory) : factory_(std::move(factory)) {}
     std::vector<uint8_t> plan(const RenderContext& ctx) override;
     ShardWork renderShard(const RenderContext& ctx, std::span<const uint8_t> plan, uint32_t shard,
                           uint32_t shards) override;
@@ -59,7 +72,7 @@ class SamplePassShards : public Shardable {
     uint32_t maxShards(const RenderContext& ctx, std::span<const uint8_t> plan) const override;
 
   private:
-    Factory factory_;
+    SamplePassFactory factory_;
 };
 
 }  // namespace partita

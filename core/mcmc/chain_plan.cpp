@@ -9,7 +9,7 @@ namespace partita {
 namespace {
 
 constexpr uint32_t kMagic = 0x50435450;  // "PTCP"
-constexpr uint32_t kVersion = 2;         // 2: burn-in per chain
+constexpr uint32_t kVersion = 3;         // 2: burn-in per chain; 3: type layers
 
 }  // namespace
 
@@ -38,6 +38,7 @@ std::vector<uint8_t> serializeChainPlan(const ChainPlan& plan) {
         w.put(c.burnIn);
         w.putBytes(c.start);
     }
+    plan.layers.serialize(w);
     return w.bytes;
 }
 
@@ -63,6 +64,7 @@ ChainPlan deserializeChainPlan(std::span<const uint8_t> bytes) {
         if (c.group >= plan.groups.size()) r.fail("bad group");
         plan.chains.push_back(std::move(c));
     }
+    plan.layers = TypeLayers::deserialize(r);
     if (!r.atEnd()) r.fail("trailing bytes");
     return plan;
 }

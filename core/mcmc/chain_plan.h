@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "type_layers.h"
+
 namespace partita {
 
 struct ChainGroup {
@@ -30,6 +32,9 @@ struct ChainPlan {
     uint64_t bootstrapSamples = 0;
     std::vector<ChainGroup> groups;
     std::vector<PlannedChain> chains;
+    /// The types every group's film keeps a layer of (type_layers.h): mlt's largest types of the
+    /// bootstrap, none for the partitions (their images are combined ones).
+    TypeLayers layers = TypeLayers::every();
 
     /// Mutations of all the chains of group g (of every group when g < 0).
     uint64_t mutations(int group = -1) const;

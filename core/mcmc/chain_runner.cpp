@@ -40,7 +40,7 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
     : ctx_(ctx), plan_(plan), roundMutations_(std::max<uint64_t>(1, roundMutations)) {
     int w = ctx.settings.width, h = ctx.settings.height;
     for (size_t g = 0; g < plan.groups.size(); ++g) {
-        films_.emplace_back(w, h);
+        films_.emplace_back(w, h, plan.layers);
         splatBuffers_.emplace_back(w, h);
     }
     for (const PlannedChain& c : plan.chains) {
@@ -167,6 +167,10 @@ float ChainRunner::groupScale(uint32_t group) const {
 
 LayeredImage ChainRunner::resolveGroup(uint32_t group, ThreadPool* pool) const {
     return films_[group].resolve(groupScale(group), ctx_.settings.maxTypeLayers, pool);
+}
+
+LayeredImage ChainRunner::takeResolvedGroup(uint32_t group, ThreadPool* pool) {
+    return films_[group].takeResolved(groupScale(group), ctx_.settings.maxTypeLayers, pool);
 }
 
 Image ChainRunner::resolveGroupCombined(uint32_t group) const {

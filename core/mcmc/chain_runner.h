@@ -48,6 +48,8 @@ class ChainRunner {
 
     /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it).
     LayeredImage resolveGroup(uint32_t group, ThreadPool* pool) const;
+    /// resolveGroup's image, consuming group g's film (its memory given back layer by layer).
+    LayeredImage takeResolvedGroup(uint32_t group, ThreadPool* pool);
     /// Only the combined image of group g (no type layers), scaled the same way.
     Image resolveGroupCombined(uint32_t group) const;
     const Film& film(uint32_t group) const { return films_[group]; }

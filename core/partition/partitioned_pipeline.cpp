@@ -41,6 +41,7 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
     ChainPlan plan;
     plan.seed = ctx.settings.seed;
     plan.bootstrapSamples = prepass.samplesA + prepass.samplesB;
+    plan.layers = TypeLayers::of({});  // partition images are combined ones: no type layers
     uint64_t total = 0;
     for (uint64_t m : mutations) total += m;
     uint64_t stream = kChainStreams;

@@ -33,6 +33,7 @@ ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards)
     part.seed = plan.seed;
     part.bootstrapSamples = plan.bootstrapSamples;
     part.groups = plan.groups;
+    part.layers = plan.layers;
     const ShareRange range = shareRange(plan.chains.size(), shards, shard);
     part.chains.assign(plan.chains.begin() + long(range.first),
                        plan.chains.begin() + long(range.end));

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "byte_stream.h"
+#include "compression.h"
 #include "params/job_parameters.h"
 
 namespace partita {
@@ -13,7 +14,7 @@ namespace {
 constexpr uint32_t kPlanMagic = 0x4e4c5050;    // "PPLN"
 constexpr uint32_t kResultMagic = 0x44485350;  // "PSHD"
 constexpr uint32_t kPlanVersion = 2;           // 2: settings as named parameters
-constexpr uint32_t kResultVersion = 1;
+constexpr uint32_t kResultVersion = 2;         // 2: films compressed (compression.h)
 
 // The plan's settings: the budget, then every declared parameter of the job (shared and the
 // algorithm's, defaults filled in) as its name and its text (formatParameter, which reads back
@@ -107,7 +108,11 @@ namespace {
 
 void putWork(ByteWriter& w, const ShardWork& work) {
     w.put(uint64_t(work.films.size()));
-    for (const Film& f : work.films) w.putBytes(f.serialize());
+    for (const Film& f : work.films) {
+        const std::vector<uint8_t> film = f.serialize();
+        w.put(uint64_t(film.size()));
+        w.putBytes(compressBytes(film));
+    }
     w.put(uint64_t(work.counts.size()));
     for (uint64_t c : work.counts) w.put(c);
     w.put(uint64_t(work.sums.size()));
@@ -150,7 +155,16 @@ ShardResult deserializeShardResult(std::span<const uint8_t> bytes) {
     s.shards = body.get<uint32_t>();
     if (s.shards == 0 || s.shard >= s.shards) body.fail("bad shard index");
     uint64_t films = body.get<uint64_t>();
-    for (uint64_t i = 0; i < films; ++i) s.work.films.push_back(Film::deserialize(body.getBytes()));
+    for (uint64_t i = 0; i < films; ++i) {
+        const uint64_t size = body.get<uint64_t>();
+        std::vector<uint8_t> film;
+        try {
+            film = decompressBytes(body.getBytes(), size);
+        } catch (const std::invalid_argument& e) {
+            body.fail(e.what());
+        }
+        s.work.films.push_back(Film::deserialize(film));
+    }
     uint64_t counts = body.get<uint64_t>();
     for (uint64_t i = 0; i < counts; ++i) s.work.counts.push_back(body.get<uint64_t>());
     uint64_t sums = body.get<uint64_t>();

@@ -88,7 +88,8 @@ bool ShardMerger::add(const ShardResult& result) {
     if (!digest) return false;
     if (merged_.empty()) {
         work_.films.clear();
-        for (const Film& f : result.work.films) work_.films.emplace_back(f.width(), f.height());
+        for (const Film& f : result.work.films)
+            work_.films.emplace_back(f.width(), f.height(), f.layers());
         work_.counts.assign(result.work.counts.size(), 0);
         work_.sums.clear();
     }

@@ -426,5 +426,168 @@ TEST(Film, MoveAndTypeCount) {
     EXPECT_EQ(assigned.resolveCombined(1.0f).at(19, 19), Rgb(1.0f));
 }
 
+// ---- Bounded type layers (issue #24): the film keeps the types it is given, "other" the rest.
+
+/// Many distinct types (every string of 1..7 scattering vertices: 254), so that a bounded film
+/// has far more types than layers.
+std::vector<PathType> manyTypes() {
+    std::vector<PathType> out;
+    for (int n = 1; n <= 7; ++n)
+        for (uint64_t mask = 0; mask < (uint64_t(1) << n); ++mask) {
+            PathType t;
+            EXPECT_TRUE(PathType::fromBits(mask, n, t));
+            out.push_back(t);
+        }
+    return out;
+}
+
+std::vector<Sample> manyTypeSamples(int w, int h, size_t n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    const auto types = manyTypes();
+    std::uniform_int_distribution<int> dx(0, w - 1), dy(0, h - 1), dt(0, int(types.size()) - 1),
+        dk(1, 1023);
+    std::vector<Sample> out;
+    for (size_t i = 0; i < n; ++i)
+        out.push_back({dx(rng),
+                       dy(rng),
+                       types[size_t(dt(rng))],
+                       {dk(rng) / 64.0f, dk(rng) / 64.0f, dk(rng) / 64.0f}});
+    return out;
+}
+
+TEST(TypeLayers, LargestKeepsTheHeaviestTiesByTypeOrder) {
+    const auto t = someTypes();  // LE LDE LSE LDDE LSDE ...
+    std::map<PathType, double> w{{t[0], 1.0}, {t[1], 3.0}, {t[2], 3.0}, {t[3], 0.0}, {t[4], 2.0}};
+    const TypeLayers two = TypeLayers::largest(w, 2);
+    ASSERT_EQ(two.types().size(), 2u);
+    // LDE and LSE tie at 3: both kept; LSDE (2) is not.
+    EXPECT_TRUE(two.keeps(t[1]) && two.keeps(t[2]));
+    EXPECT_FALSE(two.keeps(t[4]));
+    // The tie for the last place goes to the smaller PathType.
+    const TypeLayers one = TypeLayers::largest(w, 1);
+    EXPECT_TRUE(one.keeps(std::min(t[1], t[2])));
+    EXPECT_FALSE(one.keeps(std::max(t[1], t[2])));
+    // A weight of zero never earns a layer; more room than types keeps them all.
+    EXPECT_FALSE(TypeLayers::largest(w, 10).keeps(t[3]));
+    EXPECT_EQ(TypeLayers::largest(w, 10).types().size(), 4u);
+    EXPECT_TRUE(TypeLayers::largest(w, 0).keepsNone());
+    EXPECT_TRUE(TypeLayers::every().keeps(t[3]));
+    EXPECT_FALSE(TypeLayers::every().keepsNone());
+}
+
+TEST(Film, ATypeOutsideTheKeptSetLandsInOtherAndLayersSumToCombinedExactly) {
+    const int w = 37, h = 21;
+    const auto types = manyTypes();
+    const TypeLayers kept = TypeLayers::of({types[0], types[5], types[40], types[200]});
+    Film bounded(w, h, kept), every(w, h);
+    const auto samples = manyTypeSamples(w, h, 20000, 5);
+    addAll(bounded, samples);
+    addAll(every, samples);
+
+    const LayeredImage img = bounded.resolve(1.0f, 1024);
+    ASSERT_EQ(img.layers.size(), 5u);  // the four kept types and "other"
+    EXPECT_EQ(img.layers.back().name, Film::kOtherLayer);
+    EXPECT_EQ(bounded.typeCount(), 4u);
+    // Each kept layer is the type's own sums; "other" is everything else (the unbounded film's
+    // other types); the values are dyadic with few per pixel, so float sums are exact.
+    const LayeredImage all = every.resolve(1.0f, 1024);
+    for (const auto& layer : img.layers) {
+        if (layer.name == Film::kOtherLayer) continue;
+        ASSERT_NE(all.layer(layer.name), nullptr) << layer.name;
+        EXPECT_EQ(layer.image.rgb, all.layer(layer.name)->rgb) << layer.name;
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            Rgb rest(0.0f), sum(0.0f);
+            for (const auto& layer : all.layers) {
+                PathType t;
+                ASSERT_TRUE(PathType::parse(layer.name, t));
+                if (!kept.keeps(t)) rest += layer.image.at(x, y);
+            }
+            for (const auto& layer : img.layers) sum += layer.image.at(x, y);
+            EXPECT_EQ(img.layer(Film::kOtherLayer)->at(x, y), rest) << x << "," << y;
+            EXPECT_EQ(sum, img.combined.at(x, y)) << x << "," << y;
+            EXPECT_EQ(img.combined.at(x, y), all.combined.at(x, y));
+        }
+}
+
+TEST(Film, ABoundedFilmHoldsAtMostItsLayersPlusTwoBuffersPerTile) {
+    const int w = 64, h = 48;
+    const auto types = manyTypes();
+    const auto samples = manyTypeSamples(w, h, 100000, 6);
+    for (size_t layers : {0u, 1u, 8u, 32u}) {
+        SCOPED_TRACE(testing::Message() << layers << " layers");
+        std::vector<PathType> chosen(types.begin(), types.begin() + long(layers));
+        Film film(w, h, TypeLayers::of(chosen));
+        addAll(film, samples);
+        // Every tile saw (nearly) every one of the 254 types: unbounded, it would hold ~255.
+        EXPECT_LE(film.maxBuffersPerTile(), layers == 0 ? 1 : layers + 2);
+        EXPECT_GE(film.maxBuffersPerTile(), layers == 0 ? 1 : layers + 1);
+    }
+    Film every(w, h);
+    addAll(every, samples);
+    EXPECT_GT(every.maxBuffersPerTile(), 200u);  // the check above can fail
+}
+
+TEST(Film, AFilmKeepingNoTypeHasOnlyItsCombinedImage) {
+    const int w = 20, h = 20;
+    Film none(w, h, TypeLayers::of({})), every(w, h);
+    const auto samples = manyTypeSamples(w, h, 3000, 7);
+    addAll(none, samples);
+    addAll(every, samples);
+    const LayeredImage img = none.resolve(1.0f, 32);
+    EXPECT_TRUE(img.layers.empty());
+    EXPECT_EQ(img.combined.rgb, every.resolveCombined(1.0f).rgb);
+    EXPECT_EQ(none.maxBuffersPerTile(), 1u);
+}
+
+TEST(Film, BoundedFilmsMergeAndSerializeExactlyAndRefuseOtherLayers) {
+    const int w = 33, h = 17;
+    const auto types = manyTypes();
+    const TypeLayers kept = TypeLayers::of({types[3], types[100]});
+    const auto samples = manyTypeSamples(w, h, 8000, 8);
+    Film whole(w, h, kept), a(w, h, kept), b(w, h, kept);
+    addAll(whole, samples);
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const Sample& s = samples[i];
+        (i % 3 == 0 ? a : b).addSample(s.x, s.y, s.type, s.value);
+    }
+    a.merge(b);
+    EXPECT_EQ(a.serialize(), whole.serialize());
+    const std::vector<uint8_t> bytes = whole.serialize();
+    Film back = Film::deserialize(bytes);
+    EXPECT_TRUE(back.layers() == kept);
+    EXPECT_EQ(back.serialize(), bytes);
+    expectBytewiseEqual(back.resolve(1.0f, 32), whole.resolve(1.0f, 32));
+
+    Film unbounded(w, h), otherSet(w, h, TypeLayers::of({types[3]}));
+    EXPECT_THROW(whole.merge(unbounded), std::invalid_argument);
+    EXPECT_THROW(whole.merge(otherSet), std::invalid_argument);
+}
+
+TEST(Film, TakeResolvedEqualsResolveBitForBitAndEmptiesTheFilm) {
+    const int w = 45, h = 29;
+    const auto types = manyTypes();
+    const auto samples = manyTypeSamples(w, h, 30000, 9);
+    ThreadPool pool(3);
+    for (const TypeLayers& layers :
+         {TypeLayers::every(), TypeLayers::of({types[1], types[7], types[99]}),
+          TypeLayers::of({})}) {
+        for (int maxLayers : {0, 2, 1024}) {
+            SCOPED_TRACE(testing::Message() << layers.types().size() << " kept, " << maxLayers);
+            Film film(w, h, layers);
+            // Arbitrary values: the same additions in the same order give the same bits.
+            for (const Sample& s : samples) film.addSample(s.x, s.y, s.type, s.value * 0.37f);
+            const LayeredImage expected = film.resolve(0.25f, maxLayers);
+            const LayeredImage taken = film.takeResolved(0.25f, maxLayers, &pool);
+            expectBytewiseEqual(taken, expected);
+            EXPECT_EQ(film.typeCount(), 0u);
+            EXPECT_EQ(film.resolveCombined(1.0f).rgb, Image(w, h).rgb);
+            film.addSample(3, 4, types[1], Rgb(1.0f));  // still usable
+            EXPECT_EQ(film.resolveCombined(1.0f).at(3, 4), Rgb(1.0f));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace partita

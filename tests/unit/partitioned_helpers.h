@@ -40,6 +40,7 @@ inline RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind
     st.seed = seed;
     st.maxDepth = kMaxDepth;
     st.previewIntervalSeconds = 0;
+    st.everyTypeLayer = true;  // per-type comparisons: no type merged into "other"
     st.maxTypeLayers = 1024;
     return st;
 }

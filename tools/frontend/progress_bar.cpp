@@ -167,9 +167,14 @@ void ProgressBar::update(const RenderProgress& p) {
     char line[512];
     std::snprintf(line, sizeof line, "%s: %.1f%%  %s  ETA %s\n", p.phase.c_str(),
                   fraction >= 0 ? 100 * fraction : 0.0, rate.c_str(), eta.c_str());
+    // A new phase: the last state of the one before (if not printed yet), then this one at
+    // once, so that every phase shows where it started and where it ended.
+    const bool newPhase = p.phase != plainPhase_;
+    if (newPhase && !pendingPlain_.empty()) std::fputs(pendingPlain_.c_str(), out_);
+    plainPhase_ = p.phase;
     pendingPlain_ = line + partitionTable(p);
     auto now = std::chrono::steady_clock::now();
-    if (now - lastPlain_ < std::chrono::seconds(5)) return;
+    if (!newPhase && now - lastPlain_ < std::chrono::seconds(5)) return;
     lastPlain_ = now;
     std::fputs(pendingPlain_.c_str(), out_);
     std::fflush(out_);

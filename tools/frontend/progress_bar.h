@@ -36,6 +36,7 @@ class ProgressBar {
     bool drawn_ = false;
     std::mutex mutex_;
     std::chrono::steady_clock::time_point lastPlain_{};
+    std::string plainPhase_;    // the phase of the last plain line
     std::string pendingPlain_;  // the latest plain line (and table) not printed yet
     int tableLines_ = 0;        // lines of the partition table drawn above the bar
 };

@@ -36,13 +36,12 @@ struct TileSplats {
 
 class BdptPasses : public SamplePassRenderer {
   public:
-    BdptPasses(const RenderContext& ctx, const BdptSettings& settings)
+    BdptPasses(const RenderContext& ctx, const BdptSettings& settings, const TypeLayers& layers)
         : ctx_(ctx),
           settings_(settings),
-          cameraFilm_(ctx.settings.width, ctx.settings.height),
-          splatFilm_(ctx.settings.width, ctx.settings.height),
+          film_(ctx.settings.width, ctx.settings.height, layers),
           splatBuffer_(ctx.settings.width, ctx.settings.height),
-          tiles_(size_t(cameraFilm_.tilesX()) * cameraFilm_.tilesY()) {
+          tiles_(size_t(film_.tilesX()) * film_.tilesY()) {
         // Scattering vertices <= maxDepth: a camera subpath may end on an emitter one vertex
         // further (s = 0), a light subpath needs at most maxDepth surface vertices.
         cameraWalk_.maxVertices = ctx.settings.maxDepth + 2;
@@ -51,46 +50,59 @@ class BdptPasses : public SamplePassRenderer {
             settings.rouletteStartDepth;
     }
 
+    /// The pass in batches of kBatchTiles tiles (fixed by the tile index, not by the threads):
+    /// each batch's tiles in parallel, then its light-tracing splats into the film. The splats
+    /// held at once are a batch's, not the whole image's (at 1080p a pass of one sample per
+    /// pixel left ~1 GB of them).
     void renderPass(SampleRange range, ProgressReporter& progress) override {
-        int tilesX = cameraFilm_.tilesX();
-        ctx_.pool.parallelFor(tiles_.size(), [&](size_t tile) {
-            ctx_.throwIfCancelled();
-            int x0 = int(tile % tilesX) * Film::kTileSize,
-                y0 = int(tile / tilesX) * Film::kTileSize;
-            int x1 = std::min(x0 + Film::kTileSize, cameraFilm_.width());
-            int y1 = std::min(y0 + Film::kTileSize, cameraFilm_.height());
-            renderTile(x0, y0, x1, y1, range, tiles_[tile]);
-            progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
-        });
-        addSplats(range);
+        const size_t tilesX = size_t(film_.tilesX());
+        for (size_t first = 0; first < tiles_.size(); first += kBatchTiles) {
+            const size_t end = std::min(tiles_.size(), first + kBatchTiles);
+            ctx_.pool.parallelFor(end - first, [&](size_t i) {
+                ctx_.throwIfCancelled();
+                const size_t tile = first + i;
+                int x0 = int(tile % tilesX) * Film::kTileSize,
+                    y0 = int(tile / tilesX) * Film::kTileSize;
+                int x1 = std::min(x0 + Film::kTileSize, film_.width());
+                int y1 = std::min(y0 + Film::kTileSize, film_.height());
+                renderTile(x0, y0, x1, y1, range, tiles_[tile]);
+                progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
+            });
+            addSplats(range, first, end);
+        }
     }
 
     LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override {
-        return film().resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+        return film_.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+    }
+
+    LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override {
+        return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
     Film film() const override {
-        Film sum(cameraFilm_.width(), cameraFilm_.height());
-        sum.merge(cameraFilm_);
-        sum.merge(splatFilm_);
-        return sum;
+        Film copy(film_.width(), film_.height(), film_.layers());
+        copy.merge(film_);
+        return copy;
     }
+    Film takeFilm() override { return std::move(film_); }
 
     void addStats(RenderStats& st, double seconds) const override {
         st.values["rays"] = double(rays_.load());
         st.values["rays_per_second"] = seconds > 0 ? double(rays_.load()) / seconds : 0;
-        st.values["path_types"] = double(cameraFilm_.typeCount() + splatFilm_.typeCount());
-        st.values["dropped_samples"] =
-            double(cameraFilm_.droppedSamples() + splatFilm_.droppedSamples());
+        st.values["path_types"] = double(film_.typeCount());
+        st.values["dropped_samples"] = double(film_.droppedSamples());
     }
 
-    /// Splats are held for a whole pass: keep a pass to about 2^18 pixel samples.
+    /// Splats are held for a batch of a pass: keep a pass to about 2^18 pixel samples.
     uint64_t maxPassSamples() const override {
-        double pixels = double(cameraFilm_.width()) * cameraFilm_.height();
+        double pixels = double(film_.width()) * film_.height();
         return uint64_t(std::max(1.0, std::min(1024.0, double(1 << 18) / pixels)));
     }
 
   private:
+    static constexpr size_t kBatchTiles = 256;  // 65536 pixels
+
     /// Per-thread scratch of one pixel sample.
     struct Scratch {
         std::vector<PathVertex> camera, light;
@@ -106,7 +118,7 @@ class BdptPasses : public SamplePassRenderer {
         for (uint64_t s = range.first; s < range.end; ++s) {
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) {
-                    Film::Pixel pixel = cameraFilm_.pixel(x, y);
+                    Film::Pixel pixel = film_.pixel(x, y);
                     renderSample(x, y, s, pixel, connector, scratch, out.splats);
                 }
             out.sampleStarts.push_back(uint32_t(out.splats.size()));
@@ -116,7 +128,7 @@ class BdptPasses : public SamplePassRenderer {
 
     void renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel, Connector& connector,
                       Scratch& scratch, std::vector<Splat>& splats) {
-        Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, cameraFilm_.width(), sample);
+        Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), sample);
         Vec2f u{rng.nextFloat(), rng.nextFloat()};
         Ray primary = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
         traceCameraSubpath(ctx_.scene, ctx_.camera, primary, rng, cameraWalk_, scratch.camera,
@@ -146,24 +158,30 @@ class BdptPasses : public SamplePassRenderer {
                (settings_.onlyT < 0 || t == settings_.onlyT);
     }
 
-    /// The pass's splats, sample by sample and within a sample tile by tile: the same order
-    /// whatever the threads did and however the budget was split into passes.
-    /// A group per sample index (splat_buffer.h: accurate float sums).
-    void addSplats(SampleRange range) {
+    /// The splats of tiles [first, end), sample by sample and within a sample tile by tile:
+    /// the same order whatever the threads did and however the budget was split into passes.
+    /// A group per sample index and batch (splat_buffer.h: accurate float sums). The tiles'
+    /// lists are emptied (their memory given back).
+    void addSplats(SampleRange range, size_t first, size_t end) {
         for (uint64_t i = 0; i < range.count(); ++i) {
-            for (const TileSplats& tile : tiles_)
+            for (size_t t = first; t < end; ++t) {
+                const TileSplats& tile = tiles_[t];
                 for (uint32_t k = tile.sampleStarts[i]; k < tile.sampleStarts[i + 1]; ++k) {
                     const Splat& sp = tile.splats[k];
                     splatBuffer_.addTent(sp.raster, sp.type, sp.value);
                 }
-            splatBuffer_.flushInto(splatFilm_);
+            }
+            splatBuffer_.flushInto(film_);
         }
+        for (size_t t = first; t < end; ++t) tiles_[t] = TileSplats{};
     }
 
     const RenderContext& ctx_;
     BdptSettings settings_;
     WalkSettings cameraWalk_, lightWalk_;
-    Film cameraFilm_, splatFilm_;
+    // Camera-side samples (per tile, from the pass's threads) and light-tracing splats (after
+    // the pass, serially) go into the one film: its sums are exact, so the order is immaterial.
+    Film film_;
     SplatBuffer splatBuffer_;
     std::vector<TileSplats> tiles_;
     std::atomic<uint64_t> rays_{0};
@@ -172,8 +190,9 @@ class BdptPasses : public SamplePassRenderer {
 }  // namespace
 
 RenderResult BdptAlgorithm::render(const RenderContext& ctx) {
-    BdptPasses passes(ctx, settings_);
-    return runSamplePasses(ctx, passes);
+    return renderSamplePasses(ctx, [this](const RenderContext& c, const TypeLayers& layers) {
+        return std::make_unique<BdptPasses>(c, settings_, layers);
+    });
 }
 
 BdptAlgorithm::BdptAlgorithm(BdptSettings settings) : settings_(settings) {}
@@ -181,9 +200,9 @@ BdptAlgorithm::~BdptAlgorithm() = default;
 
 Shardable* BdptAlgorithm::shardable() {
     if (!shards_)
-        shards_ =
-            std::make_unique<SamplePassShards>([settings = settings_](const RenderContext& ctx) {
-                return std::make_unique<BdptPasses>(ctx, settings);
+        shards_ = std::make_unique<SamplePassShards>(
+            [settings = settings_](const RenderContext& ctx, const TypeLayers& layers) {
+                return std::make_unique<BdptPasses>(ctx, settings, layers);
             });
     return shards_.get();
 }

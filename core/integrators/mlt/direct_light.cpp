@@ -56,9 +56,10 @@ PathRestriction indirectLightOnly() {
     return [](const PathType& t) { return !isDirectLightType(t); };
 }
 
-DirectLightRenderer::DirectLightRenderer(const RenderContext& ctx, uint64_t stream)
+DirectLightRenderer::DirectLightRenderer(const RenderContext& ctx, TypeLayers layers,
+                                         uint64_t stream)
     : ctx_(ctx),
-      film_(ctx.settings.width, ctx.settings.height),
+      film_(ctx.settings.width, ctx.settings.height, std::move(layers)),
       splatBuffer_(ctx.settings.width, ctx.settings.height),
       tiles_(size_t(film_.tilesX()) * size_t(film_.tilesY())) {
     // As bdpt's camera walk (an emitter may be hit one vertex past maxDepth scattering ones),
@@ -181,8 +182,9 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
     auto begin = std::chrono::steady_clock::now();
     constexpr uint64_t kPilotStream = 1;
     DirectPilot out;
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx, kPilotStream);
-    DirectLightRenderer second(ctx, kPilotStream);
+    // Their combined images are all the pilot needs: no type layers.
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, TypeLayers::of({}), kPilotStream);
+    DirectLightRenderer second(ctx, TypeLayers::of({}), kPilotStream);
     out.renderer->renderPass({0, 1}, progress);
     second.renderPass({1, 2}, progress);
     const Image a = out.renderer->film().resolveCombined(1.0f);

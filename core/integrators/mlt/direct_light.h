@@ -30,6 +30,7 @@
 #include "path/random_walk.h"
 #include "path_type.h"
 #include "splat_buffer.h"
+#include "type_layers.h"
 
 namespace partita {
 
@@ -46,8 +47,10 @@ PathRestriction indirectLightOnly();
 /// The per-pixel direct-light estimator, into its own film (resolved with 1 / spp).
 class DirectLightRenderer {
   public:
+    /// The film keeps `layers` (type_layers.h: an mlt render's, the same as its chains');
     /// `stream`: another value gives independent samples (the pilot's).
-    explicit DirectLightRenderer(const RenderContext& ctx, uint64_t stream = 0);
+    explicit DirectLightRenderer(const RenderContext& ctx, TypeLayers layers = TypeLayers::every(),
+                                 uint64_t stream = 0);
     ~DirectLightRenderer();
     /// Samples [range.first, range.end) of every pixel, on ctx's pool (tile by tile, in parts
     /// of at most maxPassSamples()); advances `progress` (when set) by pixels x samples;

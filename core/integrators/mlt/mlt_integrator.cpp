@@ -1,6 +1,7 @@
 #include "integrators/mlt/mlt_integrator.h"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
 #include "camera.h"
@@ -17,6 +18,7 @@
 #include "sample_waves.h"
 #include "share_range.h"
 #include "thread_pool.h"
+#include "type_layer_rule.h"
 
 namespace partita {
 
@@ -64,12 +66,23 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
     return r;
 }
 
+TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
+                               const std::vector<BootstrapCandidate>& candidates) {
+    std::map<PathType, double> weights;
+    if (needsTypeWeights(settings))
+        for (const BootstrapCandidate& c : candidates) weights[c.type] += double(c.weight);
+    return chooseTypeLayers(settings, weights);
+}
+
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
                         const BootstrapResult& bootstrap, int chains, uint64_t mutations,
                         const PathRestriction& restriction) {
     ChainPlan plan;
     plan.seed = ctx.settings.seed;
     plan.bootstrapSamples = bootstrap.samples;
+    // The types both parts keep a layer of (the direct light's film and the chains'), from every
+    // candidate: a type is in one part only, so a type of the sum's top is in its part's top.
+    plan.layers = bootstrapTypeLayers(ctx.settings, bootstrap.candidates);
     Rng rng(ctx.settings.seed, kResampleStream);
     // The candidates the chains may start from, their b and the drawn starts. Unrestricted: all
     // of them, with the bootstrap's b (the plan as before the restriction existed, bit for bit).
@@ -142,7 +155,7 @@ MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settin
 
 LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
                                 ThreadPool* pool) {
-    Film sum(rs.width, rs.height);
+    Film sum(rs.width, rs.height, chains.films[0]->layers());
     sum.merge(*chains.films[0]);
     sum.merge(*chains.films[1]);
     const uint64_t done = chains.mutations[0] + chains.mutations[1];
@@ -172,7 +185,7 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
         spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, 2,
                               std::max<uint64_t>(2, settings.directMaxSpp));
     }
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx);
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.films[0]->layers());
     // No progress reports: the render phase's last report stays the chains' (mutations).
     out.renderer->renderPass({0, spp}, nullptr);
     out.spp = spp;
@@ -212,11 +225,11 @@ void runChainsFor(const RenderContext& ctx, ChainRunner& runner, const ChainPlan
 /// A time budget's fixed direct light before the chains: settings.directSpp samples per pixel,
 /// stopping once it has had directShare of the time the bootstrap left.
 DirectLightRun fixedDirectLightFirst(const RenderContext& ctx, const MltSettings& settings,
-                                     double startupSeconds) {
+                                     const TypeLayers& layers, double startupSeconds) {
     auto begin = Clock::now();
     const RenderSettings& rs = ctx.settings;
     DirectLightRun out;
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx);
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, layers);
     const double limit = std::max(0.0, rs.budget - startupSeconds) * settings.directShare;
     ProgressReporter progress(ctx.observer, "render", "samples", 0);
     while (out.spp < settings.directSpp) {
@@ -270,7 +283,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
         runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
     } else if (settings_.directSpp > 0 && timed) {
         // A fixed count first, then the chains with the time left.
-        direct = fixedDirectLightFirst(ctx, settings_, bootstrapSeconds);
+        direct = fixedDirectLightFirst(ctx, settings_, plan.layers, bootstrapSeconds);
         startupSeconds += direct.seconds;
         directImage =
             resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
@@ -303,7 +316,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve);
             const double chainSeconds = secondsSince(chainsStart);
             countHalves();
-            direct.renderer = std::make_unique<DirectLightRenderer>(ctx);
+            direct.renderer = std::make_unique<DirectLightRenderer>(ctx, plan.layers);
             direct.variance = pilot.variance;
             direct.pilotRays = pilot.rays;
             direct.chainError =
@@ -343,7 +356,6 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
 
     RenderResult result;
-    result.image = resolve(nullptr);
     RenderStats& st = result.stats;
     st.values["b"] = plan.groups[0].b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
@@ -351,7 +363,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     const double directRays = direct.rays();
     size_t types = runner.film(0).typeCount();
     if (apart) {
-        Film chains(rs.width, rs.height);
+        Film chains(rs.width, rs.height, plan.layers);
         chains.merge(runner.film(0));
         chains.merge(runner.film(1));
         types = chains.typeCount() + direct.renderer->film().typeCount();
@@ -361,6 +373,8 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
                   bootstrap.rays + uint64_t(directRays), pixels);
     addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
     if (apart) st.values["direct_seconds"] = direct.seconds;
+    // Last: the chains-only image consumes the film (its memory given back layer by layer).
+    result.image = apart ? resolve(nullptr) : runner.takeResolvedGroup(0, &ctx.pool);
     return result;
 }
 

@@ -41,10 +41,16 @@ struct BootstrapResult {
 BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
                              uint64_t samples, Deadline deadline = kNoDeadline);
 
+/// The type layers of an mlt render (type_layer_rule.h): the weights are the bootstrap
+/// candidates' weight sums per type (each type's share of b).
+TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
+                               const std::vector<BootstrapCandidate>& candidates);
+
 /// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
-/// resampled from the bootstrap. With a `restriction` (per-pixel direct light: the chains'
-/// paths), the group ("indirect") has the b of the candidates it accepts and the starts are
-/// resampled among those only.
+/// resampled from the bootstrap, their film keeping bootstrapTypeLayers (of every candidate).
+/// With a `restriction` (per-pixel direct light: the chains' paths), two groups (the even and
+/// the odd chains) have the b of the candidates it accepts and the starts are resampled among
+/// those only.
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
                         const BootstrapResult& bootstrap, int chains, uint64_t mutations,
                         const PathRestriction& restriction = {});

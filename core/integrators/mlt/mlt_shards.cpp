@@ -105,7 +105,7 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     result.image = addDisjointParts(
         resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, nullptr),
         resolveChainHalves(halves, rs, nullptr), rs.maxTypeLayers);
-    Film chains(rs.width, rs.height);
+    Film chains(rs.width, rs.height, plan.chains.layers);
     chains.merge(merged.films[0]);
     chains.merge(merged.films[1]);
     st.values["path_types"] = double(chains.typeCount() + direct.renderer->film().typeCount());

@@ -26,8 +26,8 @@ namespace {
 
 class PathTracerPasses : public SamplePassRenderer {
   public:
-    explicit PathTracerPasses(const RenderContext& ctx)
-        : ctx_(ctx), film_(ctx.settings.width, ctx.settings.height) {
+    PathTracerPasses(const RenderContext& ctx, const TypeLayers& layers)
+        : ctx_(ctx), film_(ctx.settings.width, ctx.settings.height, layers) {
         samplerSettings_.maxDepth = ctx.settings.maxDepth;
     }
 
@@ -53,8 +53,12 @@ class PathTracerPasses : public SamplePassRenderer {
         return film_.resolve(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
+    LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override {
+        return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
+    }
+
     Film film() const override {
-        Film copy(film_.width(), film_.height());
+        Film copy(film_.width(), film_.height(), film_.layers());
         copy.merge(film_);
         return copy;
     }
@@ -107,20 +111,22 @@ class PathTracerPasses : public SamplePassRenderer {
     std::atomic<uint64_t> rays_{0};
 };
 
+std::unique_ptr<SamplePassRenderer> makePathTracerPasses(const RenderContext& ctx,
+                                                         const TypeLayers& layers) {
+    return std::make_unique<PathTracerPasses>(ctx, layers);
+}
+
 }  // namespace
 
 PathTracerAlgorithm::PathTracerAlgorithm() = default;
 PathTracerAlgorithm::~PathTracerAlgorithm() = default;
 
 RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) {
-    PathTracerPasses passes(ctx);
-    return runSamplePasses(ctx, passes);
+    return renderSamplePasses(ctx, makePathTracerPasses);
 }
 
 Shardable* PathTracerAlgorithm::shardable() {
-    if (!shards_)
-        shards_ = std::make_unique<SamplePassShards>(
-            [](const RenderContext& ctx) { return std::make_unique<PathTracerPasses>(ctx); });
+    if (!shards_) shards_ = std::make_unique<SamplePassShards>(makePathTracerPasses);
     return shards_.get();
 }
 

@@ -50,6 +50,7 @@ struct GuideRun {
         settings.height = height;
         settings.maxDepth = maxDepth;
         settings.previewIntervalSeconds = 0;
+        settings.everyTypeLayer = true;
         settings.maxTypeLayers = 1024;
     }
     RenderContext context() { return {scene, camera, settings, pool, cancel, observer}; }

@@ -30,7 +30,8 @@ RenderSettings tinySettings(int spp, uint64_t seed, int maxDepth = 16) {
     s.budget = spp;
     s.seed = seed;
     s.maxDepth = maxDepth;
-    s.maxTypeLayers = 1024;  // every type its own layer: no "other"
+    s.everyTypeLayer = true;  // every type its own layer: no "other"
+    s.maxTypeLayers = 1024;
     s.previewIntervalSeconds = 0;
     return s;
 }

@@ -242,6 +242,7 @@ TEST(MltDirect, PerPixelPartAndChainsHaveNoTypeInCommon) {
             ASSERT_TRUE(PathType::parse(layer.name, t)) << layer.name;
             EXPECT_TRUE(isDirectLightType(t)) << name << ": " << layer.name;
         }
+        start.plan.layers = TypeLayers::every();  // every type a layer: none hides in "other"
         ChainRunner runner(
             ctx, start.plan, [&](uint32_t) { return makeMltMutations(ctx, settings); },
             [](uint32_t) { return indirectLightOnly(); });

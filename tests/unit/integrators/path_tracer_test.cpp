@@ -37,7 +37,8 @@ TEST(PathTracer, TypeLayersSumToCombined) {
     RenderSettings st = smallSettings(8, 7, 12);
     st.width = 32;
     st.height = 24;
-    st.maxTypeLayers = 1024;  // keep every type: the layers are then complete
+    st.everyTypeLayer = true;  // keep every type: the layers are then complete
+    st.maxTypeLayers = 1024;
     RenderResult r = renderWith(scene, "pt", st);
     ASSERT_GT(r.image.layers.size(), 4u);
     bool sawSpecular = false;

@@ -1,0 +1,43 @@
+// compression.h: round trips, and damaged or hostile input is refused before anything large is
+// allocated.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "compression.h"
+
+namespace partita {
+namespace {
+
+std::vector<uint8_t> varintLikeBytes(size_t n) {
+    std::mt19937 rng(4);
+    std::geometric_distribution<int> small(0.6);
+    std::vector<uint8_t> out(n);
+    for (auto& b : out) b = uint8_t(std::min(255, small(rng)));
+    return out;
+}
+
+TEST(Compression, RoundTripsAndShrinksFilmLikeBytes) {
+    const std::vector<uint8_t> bytes = varintLikeBytes(1 << 20);
+    const std::vector<uint8_t> packed = compressBytes(bytes);
+    EXPECT_LT(packed.size(), bytes.size() / 2);
+    EXPECT_EQ(decompressBytes(packed, bytes.size()), bytes);
+    EXPECT_EQ(decompressBytes(compressBytes({}), 0), std::vector<uint8_t>{});
+}
+
+TEST(Compression, RefusesDamageWrongSizesAndImpossibleClaims) {
+    const std::vector<uint8_t> bytes = varintLikeBytes(100000);
+    std::vector<uint8_t> packed = compressBytes(bytes);
+    EXPECT_THROW(decompressBytes(packed, bytes.size() - 1), std::invalid_argument);
+    EXPECT_THROW(decompressBytes(packed, bytes.size() + 1), std::invalid_argument);
+    std::vector<uint8_t> truncated(packed.begin(), packed.end() - 5);
+    EXPECT_THROW(decompressBytes(truncated, bytes.size()), std::invalid_argument);
+    packed[packed.size() / 2] ^= 0x5a;
+    EXPECT_THROW(decompressBytes(packed, bytes.size()), std::invalid_argument);
+    // 40 bytes cannot hold a gigabyte: refused without allocating it.
+    EXPECT_THROW(decompressBytes(std::vector<uint8_t>(40, 0), uint64_t(1) << 30),
+                 std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace partita
