@@ -42,9 +42,11 @@ int partitionsOf(const RenderSettings& s) {
 
 /// Films an algorithm holds at once: pt, bdpt and mlt one (bdpt's light tracing splats into
 /// its camera film), partitioned and guided one per partition group (K and the complement),
-/// which keep no type layers.
+/// which keep no type layers. mlt with the direct light per pixel (its default) four: the
+/// chains' two halves, their sum to resolve, the direct light's film.
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
     if (hasPartitions(algorithm)) return std::max(0, partitionsOf(s)) + 1;
+    if (algorithm == "mlt" && mltParameters().resolve(s.parameters).direct != "chains") return 4;
     return 1;
 }
 

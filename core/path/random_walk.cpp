@@ -89,6 +89,7 @@ class Walk {
     /// density; false when the walk ends there (no sample, black, Russian roulette).
     bool scatter(Ray& ray, Rgb& beta, float& pdf) {
         const PathVertex& here = path_.back();
+        if (settings_.stopAfterNonSpecular && scatteredNonSpecular_) return false;
         Vec3f wo = wo_;
         BoundBsdf bound(here.bsdf, wo);
         float uc = rng_.nextFloat();
@@ -107,6 +108,7 @@ class Walk {
         if (!survivesRoulette(scattering, beta)) return false;
         ray = spawnRay(here.hit.p, here.hit.ng, bs.wi);
         pdf = bs.isDelta ? 0 : bs.pdf;
+        scatteredNonSpecular_ = scatteredNonSpecular_ || !here.delta;
         return true;
     }
 
@@ -150,7 +152,8 @@ class Walk {
     std::vector<PathVertex>& path_;
     uint64_t& rays_;
     float startLevel_ = 1, etaScale_ = 1;
-    Vec3f wo_;  // at the last vertex, towards the one before it
+    bool scatteredNonSpecular_ = false;  // a non-specular vertex has been scattered from
+    Vec3f wo_;                           // at the last vertex, towards the one before it
 };
 
 }  // namespace

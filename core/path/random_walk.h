@@ -27,6 +27,10 @@ class RenderScene;
 struct WalkSettings {
     int maxVertices = 18;        // of the subpath, its camera or light vertex included
     int rouletteStartDepth = 3;  // Russian roulette from this many scattering vertices on (pt's)
+    /// Stop at the vertex after the first non-specular one scattered from: no later vertex can
+    /// belong to a path of the direct-light class L S* E, L D S* E (mlt's per-pixel direct
+    /// light, integrators/mlt/direct_light.h). The vertices before are those of a full walk.
+    bool stopAfterNonSpecular = false;
 };
 
 /// The camera subpath whose first ray is `primary` (from Camera::generateRay): out[0] is the

@@ -34,6 +34,8 @@ const std::map<std::string, std::string>& cheapValues() {
         {"bootstrap", "2000"},
         {"chains", "8"},
         {"startup_share", "0.5"},
+        {"direct", "chains"},
+        {"direct_spp", "4"},
         {"y", "16"},
         {"radius", "10"},
         {"epsilon", "0.5"},

@@ -6,6 +6,7 @@
 
 #include "camera.h"
 #include "clock.h"
+#include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_shards.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
@@ -74,18 +75,45 @@ TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
 }
 
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
-                        const BootstrapResult& bootstrap, int chains, uint64_t mutations) {
+                        const BootstrapResult& bootstrap, int chains, uint64_t mutations,
+                        const PathRestriction& restriction) {
     ChainPlan plan;
     plan.seed = ctx.settings.seed;
     plan.bootstrapSamples = bootstrap.samples;
-    plan.groups.push_back({"all", bootstrap.b});
+    // The types both parts keep a layer of (the direct light's film and the chains'), from every
+    // candidate: a type is in one part only, so a type of the sum's top is in its part's top.
     plan.layers = bootstrapTypeLayers(ctx.settings, bootstrap.candidates);
     Rng rng(ctx.settings.seed, kResampleStream);
-    std::vector<size_t> starts = resampleCandidates(bootstrap.candidates, size_t(chains), rng);
+    // The candidates the chains may start from, their b and the drawn starts. Unrestricted: all
+    // of them, with the bootstrap's b (the plan as before the restriction existed, bit for bit).
+    std::vector<uint32_t> members;
+    std::vector<size_t> starts;
+    if (!restriction) {
+        plan.groups.push_back({"all", bootstrap.b});
+        starts = resampleCandidates(bootstrap.candidates, size_t(chains), rng);
+    } else {
+        // b of the part of path space the chains may visit: the bootstrap's estimator summed
+        // over the candidates of its types only (in candidate order: deterministic).
+        double sum = 0;
+        for (size_t i = 0; i < bootstrap.candidates.size(); ++i)
+            if (restriction(bootstrap.candidates[i].type)) {
+                members.push_back(uint32_t(i));
+                sum += bootstrap.candidates[i].weight;
+            }
+        // Two groups of the same b, the even and the odd chains: two independent halves, whose
+        // difference measures the chains' error (direct_light.h's split rule).
+        const double b = bootstrap.samples > 0 ? sum / double(bootstrap.samples) : 0;
+        plan.groups.push_back({"indirect-even", b});
+        plan.groups.push_back({"indirect-odd", b});
+        starts = resampleCandidates(bootstrap.candidates, members, size_t(chains), rng);
+        for (size_t& start : starts) start = members[start];
+    }
     for (size_t k = 0; k < starts.size(); ++k) {
-        std::vector<uint8_t> start = chainStart(ctx, sampler, bootstrap.candidates, starts[k]);
+        std::vector<uint8_t> start =
+            chainStart(ctx, sampler, bootstrap.candidates, starts[k], restriction);
         if (start.empty()) continue;
         PlannedChain chain;
+        chain.group = restriction ? uint32_t(k % 2) : 0;
         chain.stream = kChainStreams + k;
         chain.mutations = shareRange(mutations, starts.size(), k).count();
         chain.start = std::move(start);
@@ -114,7 +142,10 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
 
     uint64_t byBudget = std::max<uint64_t>(1, mutations / settings.minMutationsPerChain);
     int chains = int(std::min<uint64_t>(uint64_t(std::max(1, settings.chains)), byBudget));
-    out.plan = planMltChains(ctx, sampler, out.bootstrap, chains, mutations);
+    out.directApart = settings.direct != "chains";
+    out.plan = planMltChains(ctx, sampler, out.bootstrap, chains, mutations,
+                             out.directApart ? indirectLightOnly() : PathRestriction{});
+    if (out.directApart) out.bDirect = out.bootstrap.b - out.plan.groups[0].b;
     return out;
 }
 
@@ -122,27 +153,228 @@ MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settin
     return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, settings.mutations);
 }
 
+LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
+                                ThreadPool* pool) {
+    Film sum(rs.width, rs.height, chains.films[0]->layers());
+    sum.merge(*chains.films[0]);
+    sum.merge(*chains.films[1]);
+    const uint64_t done = chains.mutations[0] + chains.mutations[1];
+    return sum.resolve(ChainRunner::filmScale(chains.b, rs.width, rs.height, done),
+                       rs.maxTypeLayers, pool);
+}
+
+DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
+                                      const ChainHalves& chains, double chainRays,
+                                      const DirectPilot* pilot) {
+    auto begin = Clock::now();
+    const RenderSettings& rs = ctx.settings;
+    const double pilotSeconds = pilot ? pilot->seconds : 0;  // ran before
+    DirectLightRun out;
+    uint64_t spp = settings.directSpp;
+    if (spp == 0) {
+        DirectPilot own;
+        if (!pilot) {
+            own = runDirectPilot(ctx, nullptr);
+            pilot = &own;
+        }
+        out.variance = pilot->variance;
+        out.pilotRays = pilot->rays;
+        out.chainError = chainHalvesError(*chains.films[0], chains.mutations[0], *chains.films[1],
+                                          chains.mutations[1], chains.b, rs.width, rs.height);
+        // Costs in rays: c_d of one sample per pixel (the pilot's two), T_c the chains'.
+        spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, 2,
+                              std::max<uint64_t>(2, settings.directMaxSpp));
+    }
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.films[0]->layers());
+    // No progress reports: the render phase's last report stays the chains' (mutations).
+    out.renderer->renderPass({0, spp}, nullptr);
+    out.spp = spp;
+    out.seconds = secondsSince(begin) + pilotSeconds;
+    return out;
+}
+
+void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& direct, double bDirect,
+                         double chainRays) {
+    st.labels["direct"] = apart ? "per-pixel" : "chains";
+    st.values["direct_spp"] = double(direct.spp);
+    if (!apart) return;
+    const double directRays = direct.rays();
+    st.values["b_direct"] = bDirect;
+    st.values["direct_rays"] = directRays;
+    // The share of the rays after the bootstrap that went to the per-pixel direct light.
+    st.values["direct_share"] =
+        directRays + chainRays > 0 ? directRays / (directRays + chainRays) : 0;
+    // The split rule's inputs (direct_light.h), when it chose the samples per pixel.
+    if (direct.variance >= 0) st.values["direct_variance"] = direct.variance;
+    if (direct.chainError >= 0) st.values["chain_error"] = direct.chainError;
+    if (direct.timeShare >= 0) st.values["direct_time_share"] = direct.timeShare;
+}
+
+namespace {
+
+/// Runs the chains for `seconds` (a time budget's stage) after `startupSeconds` of the job.
+void runChainsFor(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
+                  double startupSeconds, double seconds,
+                  const std::function<LayeredImage(ThreadPool*)>& resolve) {
+    RenderSettings stage = ctx.settings;
+    stage.budget = startupSeconds + seconds;
+    RenderContext stageCtx{ctx.scene, ctx.camera, stage, ctx.pool, ctx.cancel, ctx.observer};
+    runChainsWithPreviews(stageCtx, runner, plan, startupSeconds, resolve, {});
+}
+
+/// A time budget's fixed direct light before the chains: settings.directSpp samples per pixel,
+/// stopping once it has had directShare of the time the bootstrap left.
+DirectLightRun fixedDirectLightFirst(const RenderContext& ctx, const MltSettings& settings,
+                                     const TypeLayers& layers, double startupSeconds) {
+    auto begin = Clock::now();
+    const RenderSettings& rs = ctx.settings;
+    DirectLightRun out;
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, layers);
+    const double limit = std::max(0.0, rs.budget - startupSeconds) * settings.directShare;
+    ProgressReporter progress(ctx.observer, "render", "samples", 0);
+    while (out.spp < settings.directSpp) {
+        ctx.throwIfCancelled();
+        out.renderer->renderPass({out.spp, out.spp + 1}, &progress);
+        ++out.spp;
+        if (secondsSince(begin) >= limit) break;
+    }
+    progress.flush();
+    out.seconds = secondsSince(begin);
+    return out;
+}
+
+}  // namespace
+
 RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     const RenderSettings& rs = ctx.settings;
     auto start = Clock::now();
-    double pixels = double(rs.width) * rs.height;
+    const double pixels = double(rs.width) * rs.height;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
     MltStart mltStart = startMlt(ctx, settings_);
     const BootstrapResult& bootstrap = mltStart.bootstrap;
     const ChainPlan& plan = mltStart.plan;
     const double bootstrapSeconds = mltStart.bootstrapSeconds;
+    const bool apart = mltStart.directApart;
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
-    ChainRunner runner(ctx, plan, makeMutations, {}, settings_.roundMutations);
-    runChainsWithPreviews(ctx, runner, plan, bootstrapSeconds,
-                          [&](ThreadPool* pool) { return runner.resolveGroup(0, pool); }, {});
+    ChainRunner::RestrictionFactory restrictions;
+    if (apart) restrictions = [](uint32_t) { return indirectLightOnly(); };
+    ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations);
+    ChainHalves halves;
+    if (apart) halves = {{&runner.film(0), &runner.film(1)}, {0, 0}, plan.groups[0].b};
+    auto countHalves = [&] {
+        halves.mutations[0] = runner.mutationsDone(0);
+        halves.mutations[1] = runner.mutationsDone(1);
+    };
+    auto chainImage = [&](ThreadPool* pool) {
+        if (!apart) return runner.resolveGroup(0, pool);
+        countHalves();
+        return resolveChainHalves(halves, rs, pool);
+    };
+    // What the previews show of the direct light: its pilot, then all of it.
+    LayeredImage directImage;
+    auto resolve = [&](ThreadPool* pool) {
+        LayeredImage chains = chainImage(pool);
+        return apart ? addDisjointParts(directImage, chains, rs.maxTypeLayers) : chains;
+    };
+
+    DirectLightRun direct;
+    double startupSeconds = bootstrapSeconds;
+    if (!apart) {
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+    } else if (settings_.directSpp > 0 && timed) {
+        // A fixed count first, then the chains with the time left.
+        direct = fixedDirectLightFirst(ctx, settings_, plan.layers, bootstrapSeconds);
+        startupSeconds += direct.seconds;
+        directImage =
+            resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+    } else {
+        // The pilot's two samples per pixel first (the previews' direct light).
+        DirectPilot pilot;
+        if (settings_.directSpp == 0) {
+            ProgressReporter pilotProgress(ctx.observer, "render", "samples", 2 * pixels);
+            pilot = runDirectPilot(ctx, &pilotProgress);
+            pilotProgress.flush();
+            directImage = resolveDirectLight(pilot.renderer->film(), 2, rs.maxTypeLayers, nullptr);
+            startupSeconds += pilot.seconds;
+        }
+        if (!timed) {
+            // A mutation budget: all the chains, then the direct light the rule gives them.
+            runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+            countHalves();
+            direct = directLightAfterChains(ctx, settings_, halves, double(runner.rays()),
+                                            settings_.directSpp == 0 ? &pilot : nullptr);
+            startupSeconds = bootstrapSeconds + direct.seconds;
+        } else {
+            // A time budget: the chains' first stage measures their error and cost in seconds,
+            // the rule splits the time after the bootstrap, the direct light takes its share
+            // and the chains the rest.
+            const double total = std::max(0.0, rs.budget - bootstrapSeconds);
+            const double first =
+                settings_.firstChainShare * std::max(0.0, rs.budget - secondsSince(start));
+            auto chainsStart = Clock::now();
+            runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve);
+            const double chainSeconds = secondsSince(chainsStart);
+            countHalves();
+            direct.renderer = std::make_unique<DirectLightRenderer>(ctx, plan.layers);
+            direct.variance = pilot.variance;
+            direct.pilotRays = pilot.rays;
+            direct.chainError =
+                chainHalvesError(*halves.films[0], halves.mutations[0], *halves.films[1],
+                                 halves.mutations[1], halves.b, rs.width, rs.height);
+            const double perSpp = pilot.seconds / 2;
+            const double share =
+                neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
+            const double target = share * total;
+            double directSeconds = pilot.seconds;
+            ProgressReporter progress(ctx.observer, "render", "samples", 0);
+            // At least one sample per pixel, whatever the share: the chains never see direct
+            // paths, so without it the image would miss them.
+            while (direct.spp == 0 || (directSeconds < target && direct.spp < (uint64_t(1) << 20) &&
+                                       secondsSince(start) < rs.budget)) {
+                ctx.throwIfCancelled();
+                // Passes of about a quarter of a second, never past the share.
+                const double left = std::min(target - directSeconds, 0.25);
+                const uint64_t n = uint64_t(std::clamp(left / std::max(perSpp, 1e-9), 1.0, 4096.0));
+                auto passStart = Clock::now();
+                direct.renderer->renderPass({direct.spp, direct.spp + n}, &progress);
+                direct.spp += n;
+                directSeconds += secondsSince(passStart);
+            }
+            progress.flush();
+            direct.seconds = directSeconds;
+            directImage = resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers,
+                                             &ctx.pool);
+            startupSeconds = bootstrapSeconds + directSeconds;
+            const double elapsed = secondsSince(start);
+            runChainsFor(ctx, runner, plan, elapsed, std::max(0.0, rs.budget - elapsed), resolve);
+            direct.timeShare = share;
+        }
+    }
+    if (apart)
+        directImage =
+            resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
 
     RenderResult result;
     RenderStats& st = result.stats;
-    st.values["b"] = bootstrap.b;
+    st.values["b"] = plan.groups[0].b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
-    st.values["path_types"] = double(runner.film(0).typeCount());
-    result.image = runner.takeResolvedGroup(0, &ctx.pool);
-    addChainStats(st, runner, plan, secondsSince(start), bootstrapSeconds, bootstrap.rays, pixels);
+    const double directRays = direct.rays();
+    size_t types = runner.film(0).typeCount();
+    if (apart) {
+        Film chains(rs.width, rs.height, plan.layers);
+        chains.merge(runner.film(0));
+        chains.merge(runner.film(1));
+        types = chains.typeCount() + direct.renderer->film().typeCount();
+    }
+    st.values["path_types"] = double(types);
+    addChainStats(st, runner, plan, secondsSince(start), startupSeconds,
+                  bootstrap.rays + uint64_t(directRays), pixels);
+    addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
+    if (apart) st.values["direct_seconds"] = direct.seconds;
+    // Last: the chains-only image consumes the film (its memory given back layer by layer).
+    result.image = apart ? resolve(nullptr) : runner.takeResolvedGroup(0, &ctx.pool);
     return result;
 }
 

@@ -3,6 +3,9 @@
 // chain's start, random stream and mutation count (mcmc/chain_plan.h), and the chains run
 // Veach's four mutations (mcmc/veach_mutations.h) on the thread pool (mcmc/chain_runner.h),
 // splatting expected values into per-type layers. The image is I = (b / N) sum h f / f*.
+// By default ("direct" = per-pixel) the direct light (L S* E, L D S* E) is estimated per pixel
+// apart (direct_light.h) and the chains, with the b of the other paths, are restricted to them;
+// the two images add up layer by layer. "direct" = chains leaves every path to the chains.
 //
 // Orchestration only: budget (mutations per pixel or seconds), progress in the phases
 // "bootstrap" and "render", previews, statistics. A perspective camera is required (the
@@ -13,8 +16,10 @@
 
 #include "algorithm.h"
 #include "clock.h"
+#include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "mcmc/chain_plan.h"
+#include "mcmc/markov_chain.h"
 #include "mcmc/veach_mutations.h"
 
 namespace partita {
@@ -42,9 +47,13 @@ TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
                                const std::vector<BootstrapCandidate>& candidates);
 
 /// The plan of `chains` chains sharing `mutations` (one group "all" with b), their starts
-/// resampled from the bootstrap, their film keeping bootstrapTypeLayers.
+/// resampled from the bootstrap, their film keeping bootstrapTypeLayers (of every candidate).
+/// With a `restriction` (per-pixel direct light: the chains' paths), two groups (the even and
+/// the odd chains) have the b of the candidates it accepts and the starts are resampled among
+/// those only.
 ChainPlan planMltChains(const RenderContext& ctx, const BootstrapSampler& sampler,
-                        const BootstrapResult& bootstrap, int chains, uint64_t mutations);
+                        const BootstrapResult& bootstrap, int chains, uint64_t mutations,
+                        const PathRestriction& restriction = {});
 
 /// What mlt does before its chains run: the bootstrap and the chain plan (mutation budgets
 /// plan every mutation; a time budget plans an upper bound).
@@ -52,8 +61,53 @@ struct MltStart {
     BootstrapResult bootstrap;
     ChainPlan plan;
     double bootstrapSeconds = 0;
+    /// Direct light per pixel (settings "direct" = per-pixel): the chains are restricted to
+    /// indirect paths in two halves (groups 0 and 1, the even and the odd chains) with their b;
+    /// bDirect is the bootstrap's b less the chains'.
+    bool directApart = false;
+    double bDirect = 0;
 };
 MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
+
+/// The chains of a per-pixel-direct render: two halves (even and odd chains, groups 0 and 1)
+/// of the same b.
+struct ChainHalves {
+    const Film* films[2] = {nullptr, nullptr};
+    uint64_t mutations[2] = {0, 0};
+    double b = 0;
+};
+/// Their image: both films summed, scaled by b W H / (all their mutations).
+LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
+                                ThreadPool* pool);
+
+/// The per-pixel direct light of an mlt render (direct_light.h): its renderer (the film), its
+/// samples per pixel, and what the split rule measured (negative where it did not run).
+struct DirectLightRun {
+    std::unique_ptr<DirectLightRenderer> renderer;
+    uint64_t spp = 0;
+    double variance = -1;    // V_d, per sample per pixel, summed over pixels
+    double chainError = -1;  // E_c, of the chains' image
+    double timeShare = -1;   // a time budget's: the share of the time the rule gave it
+    double pilotRays = 0;    // the pilot's, whose samples are not in the image
+    double seconds = 0;
+    /// Every ray the direct light traced, the pilot's included.
+    double rays() const { return (renderer ? double(renderer->rays()) : 0) + pilotRays; }
+};
+
+/// A mutation budget's direct light once its chains are done, in process and in a sharded
+/// job's resolve alike (the same film and samples per pixel: bit-identical): settings.directSpp
+/// samples per pixel, or with 0 as many as neymanDirectSpp gives from the pilot's variance and
+/// rays (`pilot` when it already ran, else run here), the chains' error (chainHalvesError) and
+/// `chainRays`.
+DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
+                                      const ChainHalves& chains, double chainRays,
+                                      const DirectPilot* pilot);
+
+/// The statistics of the direct light: the label "direct" (per-pixel or chains), direct_spp,
+/// and when apart b_direct, direct_rays, direct_share (of the rays after the bootstrap), and
+/// the rule's direct_variance, chain_error and (time budgets) direct_time_share.
+void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& direct, double bDirect,
+                         double chainRays);
 
 /// One chain's mutations.
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings);

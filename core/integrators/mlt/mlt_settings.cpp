@@ -11,6 +11,17 @@ const SettingsTable<MltSettings>& mltParameters() {
               &MltSettings::bootstrapSamples);
         t.add(chainsParameter(), &MltSettings::chains);
         t.add(startupShareParameter(), &MltSettings::startupShare);
+        t.add(ParameterSpec("direct",
+                            "direct light (L S* E, L D S* E): per-pixel samples apart from the "
+                            "chains, or left to the chains")
+                  .withChoices({"per-pixel", "chains"}),
+              &MltSettings::direct);
+        t.add(ParameterSpec("direct_spp",
+                            "samples per pixel of the per-pixel direct light (0: chosen from the "
+                            "measured variances and costs of it and the chains)")
+                  .withUnit("samples")
+                  .within(0, 1 << 20),
+              &MltSettings::directSpp);
         return t;
     }();
     return table;

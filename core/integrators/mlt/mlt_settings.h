@@ -1,8 +1,9 @@
 // The settings of `mlt` with their defaults (Veach 1997, ch. 11; DESIGN.md), and the parameters
-// a job sets them with (mltParameters(): bootstrap, chains).
+// a job sets them with (mltParameters(): bootstrap, chains, startup_share, direct, direct_spp).
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "mcmc/veach_mutations.h"
 #include "params/settings_table.h"
@@ -22,6 +23,24 @@ struct MltSettings {
     uint64_t minMutationsPerChain = 32;
     /// Mutations per chain between two merges into the film (bounds the splat buffers).
     uint64_t roundMutations = 1024;
+    /// Where the direct-light paths (L S* E, L D S* E) go (issue #22 1, direct_light.h):
+    /// "per-pixel", a per-pixel estimator of its own with the chains restricted to every other
+    /// path (as Veach & Guibas and Mitsuba's mlt), or "chains", every path to the chains (the
+    /// behaviour before; the same image bit for bit). Parameter "direct".
+    std::string direct = "per-pixel";
+    /// Samples per pixel of the per-pixel direct light; 0 (the default): chosen by the rule of
+    /// direct_light.h (Neyman allocation from the measured variances and costs of the two
+    /// parts: the direct light's first two samples per pixel, two halves of the chains), at
+    /// least 2 and at most directMaxSpp. A mutation budget's chains keep their mutations and
+    /// the direct light comes after them, its cost counted in rays (deterministic); a time
+    /// budget's chains run a first quarter of the time, then the rule splits the whole time in
+    /// seconds. A fixed count (Mitsuba's directSamples is 16) with a mutation budget is rendered
+    /// besides the mutations; with a time budget it stops early when it has had directShare of
+    /// the time the bootstrap left, and the chains get the rest. Parameter "direct_spp".
+    uint64_t directSpp = 0;
+    uint64_t directMaxSpp = 4096;
+    double directShare = 0.5;
+    double firstChainShare = 0.25;  // auto with a time budget: the chains' measuring stage
     VeachMutationSettings mutations;
 };
 

@@ -3,11 +3,13 @@
 #include <stdexcept>
 
 #include "byte_stream.h"
+#include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_integrator.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_runner.h"
 #include "progress_reporter.h"
 #include "shard/chain_shards.h"
+#include "share_range.h"
 
 namespace partita {
 
@@ -16,12 +18,19 @@ namespace {
 struct MltPlan {
     ChainPlan chains;
     uint64_t bootstrapRays = 0;
+    // Direct light per pixel: the chains, in two halves, are restricted to the other paths;
+    // the direct light is rendered when they are done, in the resolve step (its samples per
+    // pixel follow from the chains' error and rays), as the one-process render does.
+    bool directApart = false;
+    double bDirect = 0;
 };
 
 std::vector<uint8_t> serializeMltPlan(const MltPlan& plan) {
     ByteWriter w;
     w.put(plan.bootstrapRays);
     w.putBytes(serializeChainPlan(plan.chains));
+    w.put(uint8_t(plan.directApart));
+    w.put(plan.bDirect);
     return std::move(w.bytes);
 }
 
@@ -30,7 +39,10 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
     MltPlan plan;
     plan.bootstrapRays = r.get<uint64_t>();
     plan.chains = deserializeChainPlan(r.getBytes());
-    if (plan.chains.groups.size() != 1) r.fail("expected one chain group");
+    plan.directApart = r.get<uint8_t>() != 0;
+    plan.bDirect = r.get<double>();
+    if (plan.chains.groups.size() != (plan.directApart ? 2u : 1u))
+        r.fail("expected one chain group, or two with the direct light apart");
     if (!r.atEnd()) r.fail("trailing bytes");
     return plan;
 }
@@ -40,7 +52,8 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
 std::vector<uint8_t> MltShards::plan(const RenderContext& ctx) {
     requireMutationBudget(ctx, "mlt");
     MltStart start = startMlt(ctx, settings_);
-    return serializeMltPlan({std::move(start.plan), start.bootstrap.rays});
+    return serializeMltPlan(
+        {std::move(start.plan), start.bootstrap.rays, start.directApart, start.bDirect});
 }
 
 uint32_t MltShards::maxShards(const RenderContext&, std::span<const uint8_t> plan) const {
@@ -49,8 +62,11 @@ uint32_t MltShards::maxShards(const RenderContext&, std::span<const uint8_t> pla
 
 ShardWork MltShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> bytes,
                                  uint32_t shard, uint32_t shards) {
+    const MltPlan plan = deserializeMltPlan(bytes);
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
-    return runChainShard(ctx, deserializeMltPlan(bytes).chains, shard, shards, makeMutations, {},
+    ChainRunner::RestrictionFactory restrictions;
+    if (plan.directApart) restrictions = [](uint32_t) { return indirectLightOnly(); };
+    return runChainShard(ctx, plan.chains, shard, shards, makeMutations, restrictions,
                          settings_.roundMutations);
 }
 
@@ -59,16 +75,42 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     const MltPlan plan = deserializeMltPlan(bytes);
     const RenderSettings& rs = ctx.settings;
     const double b = plan.chains.groups[0].b;
-    const Film& film = merged.films.at(0);
+    const size_t films = plan.chains.groups.size();
+    if (merged.films.size() != films || merged.counts.size() != films)
+        throw std::invalid_argument("merged mlt work has " + std::to_string(merged.films.size()) +
+                                    " films, expected " + std::to_string(films));
+    const double pixels = double(rs.width) * rs.height;
     RenderResult result;
-    result.image = film.resolve(ChainRunner::filmScale(b, rs.width, rs.height, merged.counts.at(0)),
-                                rs.maxTypeLayers, nullptr);
     RenderStats& st = result.stats;
-    addMergedChainStats(st, merged, plan.chains, double(rs.width) * rs.height);
+    addMergedChainStats(st, merged, plan.chains, pixels);
     st.values["b"] = b;
     st.values["bootstrap_samples"] = double(plan.chains.bootstrapSamples);
-    st.values["path_types"] = double(film.typeCount());
+    const double chainRays = st.values["rays"];
     st.values["rays"] += double(plan.bootstrapRays);
+    if (!plan.directApart) {
+        const Film& film = merged.films[0];
+        result.image =
+            film.resolve(ChainRunner::filmScale(b, rs.width, rs.height, merged.counts[0]),
+                         rs.maxTypeLayers, nullptr);
+        st.values["path_types"] = double(film.typeCount());
+        addDirectLightStats(st, false, {}, 0, chainRays);
+        return result;
+    }
+    // The direct light after the chains, as the one-process render: the same rule on the same
+    // films and rays, so the same samples per pixel and film.
+    const ChainHalves halves{
+        {&merged.films[0], &merged.films[1]}, {merged.counts[0], merged.counts[1]}, b};
+    const DirectLightRun direct =
+        directLightAfterChains(ctx, settings_, halves, chainRays, nullptr);
+    result.image = addDisjointParts(
+        resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, nullptr),
+        resolveChainHalves(halves, rs, nullptr), rs.maxTypeLayers);
+    Film chains(rs.width, rs.height, plan.chains.layers);
+    chains.merge(merged.films[0]);
+    chains.merge(merged.films[1]);
+    st.values["path_types"] = double(chains.typeCount() + direct.renderer->film().typeCount());
+    st.values["rays"] += direct.rays();
+    addDirectLightStats(st, true, direct, plan.bDirect, chainRays);
     return result;
 }
 

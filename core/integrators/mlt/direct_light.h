@@ -1,0 +1,142 @@
+// mlt's direct light apart (issue #22 1; Veach & Guibas 1997 and Mitsuba's `mlt` do the same):
+// the paths of the direct-light class, L S* E and L D S* E in Heckbert's light-to-eye notation
+// (the light seen directly or through specular surfaces, and one non-specular bounce to the
+// light, then specular ones to the eye), are estimated per pixel, and the chains are restricted
+// to every other path. A type is in exactly one part, so the two images add up exactly, layer by
+// layer.
+//
+// The per-pixel estimator is a path tracer's: per pixel sample a camera subpath (tent-filtered
+// raster position stratified over the pixel's samples by a scrambled (0, 2)-sequence, the rest
+// from the sample's own random stream), emitter hits (s = 0) and next-event estimation
+// (s = 1) with MIS over those two strategies (path/connection.h's restrictToPathTracer), only
+// contributions of direct-class types kept. A light no camera ray can hit (a point or spot
+// light) seen directly (L E) is light-traced (s = 1, t = 1: one light vertex per pixel sample,
+// splatted as bdpt splats), its only strategy. The camera walk stops at the vertex after its first
+// non-specular scattering vertex (WalkSettings::stopAfterNonSpecular): nothing later can be
+// direct, and everything before is the full walk's, so the estimate is that of a path tracer
+// whose non-direct contributions are dropped. Every (pixel, sample) has its own random stream
+// and the film sums exactly: the direct film does not depend on threads, passes or shards.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "algorithm.h"
+#include "film.h"
+#include "integrators/sample_passes.h"
+#include "mcmc/markov_chain.h"
+#include "path/random_walk.h"
+#include "path_type.h"
+#include "splat_buffer.h"
+#include "type_layers.h"
+
+namespace partita {
+
+class ProgressReporter;
+
+/// Whether paths of type `t` belong to the direct-light class: every scattering vertex but the
+/// one next to the light is specular (L E, L S+ E, L D E, L D S+ E).
+bool isDirectLightType(const PathType& t);
+
+/// The chains' restriction when direct light is estimated per pixel: every type that is not in
+/// the direct-light class.
+PathRestriction indirectLightOnly();
+
+/// The per-pixel direct-light estimator, into its own film (resolved with 1 / spp).
+class DirectLightRenderer {
+  public:
+    /// The film keeps `layers` (type_layers.h: an mlt render's, the same as its chains');
+    /// `stream`: another value gives independent samples (the pilot's).
+    explicit DirectLightRenderer(const RenderContext& ctx, TypeLayers layers = TypeLayers::every(),
+                                 uint64_t stream = 0);
+    ~DirectLightRenderer();
+    /// Samples [range.first, range.end) of every pixel, on ctx's pool (tile by tile, in parts
+    /// of at most maxPassSamples()); advances `progress` (when set) by pixels x samples;
+    /// cancellable.
+    void renderPass(SampleRange range, ProgressReporter* progress);
+    const Film& film() const { return film_; }
+    Film takeFilm() { return std::move(film_); }
+    uint64_t rays() const { return rays_.load(); }
+    /// Adds another renderer's film and rays (samples of other indices: the film sums exactly,
+    /// so this is the film that rendering them here would give).
+    void absorb(const DirectLightRenderer& other);
+
+  private:
+    /// A light-tracing splat of L E (a point or spot light seen directly).
+    struct Splat {
+        Vec2f raster;
+        Rgb value;
+    };
+    /// One tile's splats of a pass, sample by sample (as bdpt's).
+    struct TileSplats {
+        std::vector<Splat> splats;
+        std::vector<uint32_t> sampleStarts;
+    };
+    uint64_t maxPassSamples() const;
+    void renderPassPart(SampleRange range, ProgressReporter* progress);
+    void renderTile(int x0, int y0, int x1, int y1, SampleRange range, TileSplats& splats,
+                    uint64_t& rays);
+
+    const RenderContext& ctx_;
+    Film film_;
+    SplatBuffer splatBuffer_;
+    std::vector<TileSplats> tiles_;
+    WalkSettings walk_, lightWalk_;
+    bool lightTracing_ = false;  // the scene has a light that camera rays cannot hit but see
+    uint64_t streams_;
+    std::atomic<uint64_t> rays_{0};
+};
+
+/// The direct part's image after `spp` samples per pixel (as pt's and bdpt's: the film / spp).
+LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayers,
+                                ThreadPool* pool);
+
+/// The direct light's pilot: two samples of every pixel, independent of the image's own (a
+/// stream of their own), rendered into two films, which give the per-sample variance of the
+/// direct image, V_d = sum over pixels of (L0 - L1)^2 / 2 (L the luminance of a pixel's
+/// one-sample estimate: unbiased for independent samples; the image's stratified samples do
+/// better). The pilot's samples are not part of the image, so that the samples per pixel the
+/// rule draws from them do not depend on the samples they are averaged with.
+struct DirectPilot {
+    std::unique_ptr<DirectLightRenderer> renderer;  // both samples (a preview's direct light)
+    double variance = 0;                            // V_d
+    double rays = 0;
+    double seconds = 0;
+};
+DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress);
+
+/// The error of the chains' image, sum over pixels of its variance, from two halves of the
+/// chains (two films of independent chains, each resolved with b W H / its own mutations):
+/// (I_a - I_b)^2 / 4 summed over pixels, in luminance. 0 when a half has no mutation.
+double chainHalvesError(const Film& a, uint64_t mutationsA, const Film& b, uint64_t mutationsB,
+                        double bValue, int width, int height);
+
+/// The split of the budget between the per-pixel direct light and the chains (issue #22 1),
+/// Neyman allocation: with A_d = V_d c_d (the direct image's error times its cost, per sample
+/// per pixel: E_d(n) = V_d / n for n samples per pixel costing n c_d) and A_c = E_c T_c (the
+/// chains' error times what they cost), the total error A_d / T_d + A_c / T_c with
+/// T_d + T_c = T fixed is smallest at T_d / T_c = sqrt(A_d / A_c). Costs are rays for a mutation
+/// budget (deterministic: the image depends on neither threads nor timing) and seconds for a
+/// time budget. For a mutation budget the chains keep their mutations (T_c is what they cost)
+/// and the direct light gets T_d = T_c sqrt(A_d / A_c), so
+///   n = T_d / c_d = sqrt(V_d T_c / (E_c c_d)),
+/// the samples per pixel returned, within [lo, hi]; `lo` when nothing is measured (no chain).
+/// c_d is the cost of one sample of every pixel.
+uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,
+                         double chainCost, uint64_t lo, uint64_t hi);
+/// The same rule as the share of a total T_d + T_c that goes to the direct light:
+/// sqrt(A_d) / (sqrt(A_d) + sqrt(A_c)); 1 when the chains have no error.
+double neymanDirectShare(double directVariance, double directCost, double chainError,
+                         double chainCost);
+
+/// The sum of two images resolved from films with no path type in common (each resolved with
+/// the same `maxTypeLayers`): the combined images added, and the type layers of both ranked
+/// together as Film::resolve ranks them (largest total luminance first, ties in PathType
+/// order), the first `maxTypeLayers` kept and the rest added into "other" with both parts'
+/// "other" layers. A type in the top of the sum is in the top of its own part, so this is the
+/// layering the sum of the two films would give. Deterministic (fixed summation orders).
+LayeredImage addDisjointParts(const LayeredImage& a, const LayeredImage& b, int maxTypeLayers);
+
+}  // namespace partita
