@@ -351,9 +351,12 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             direct.timeShare = share;
         }
     }
-    if (apart)
+    size_t directTypes = 0;
+    if (apart) {
         directImage =
             resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
+        directTypes = direct.renderer->film().typeCount();
+    }
 
     RenderResult result;
     RenderStats& st = result.stats;
@@ -363,18 +366,31 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     const double directRays = direct.rays();
     size_t types = runner.film(0).typeCount();
     if (apart) {
-        Film chains(rs.width, rs.height, plan.layers);
-        chains.merge(runner.film(0));
-        chains.merge(runner.film(1));
-        types = chains.typeCount() + direct.renderer->film().typeCount();
+        // The kept types either half saw (a sum film's typeCount, without making one).
+        std::map<PathType, double> seen = runner.film(0).typeLuminance();
+        seen.merge(runner.film(1).typeLuminance());
+        types = seen.size() + directTypes;
     }
     st.values["path_types"] = double(types);
     addChainStats(st, runner, plan, secondsSince(start), startupSeconds,
                   bootstrap.rays + uint64_t(directRays), pixels);
     addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
     if (apart) st.values["direct_seconds"] = direct.seconds;
-    // Last: the chains-only image consumes the film (its memory given back layer by layer).
-    result.image = apart ? resolve(nullptr) : runner.takeResolvedGroup(0, &ctx.pool);
+    // Last: the chains' image consumes their film (its memory given back layer by layer); with
+    // the direct light apart, half 1 is summed into half 0 first and the direct film is let go
+    // (its image is made): the same image as resolve(), with two films fewer at the peak.
+    if (!apart) {
+        result.image = runner.takeResolvedGroup(0, &ctx.pool);
+        return result;
+    }
+    direct.renderer.reset();
+    countHalves();
+    Film sum = runner.takeFilm(0);
+    sum.merge(runner.takeFilm(1));
+    const uint64_t done = halves.mutations[0] + halves.mutations[1];
+    LayeredImage chains = sum.takeResolved(
+        ChainRunner::filmScale(halves.b, rs.width, rs.height, done), rs.maxTypeLayers, &ctx.pool);
+    result.image = addDisjointParts(directImage, chains, rs.maxTypeLayers);
     return result;
 }
 
