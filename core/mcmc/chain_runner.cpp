@@ -36,11 +36,17 @@ struct ChainRunner::Chain {
 
 ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
                          const MutationFactory& mutations, const RestrictionFactory& restrictions,
-                         uint64_t roundMutations)
-    : ctx_(ctx), plan_(plan), roundMutations_(std::max<uint64_t>(1, roundMutations)) {
+                         uint64_t roundMutations, FilmLayout layout)
+    : ctx_(ctx),
+      plan_(plan),
+      roundMutations_(std::max<uint64_t>(1, roundMutations)),
+      layout_(layout) {
     int w = ctx.settings.width, h = ctx.settings.height;
+    if (layout == FilmLayout::AllAndHalf && plan.groups.size() != 2)
+        throw std::invalid_argument("chain plan: the all-and-half layout needs two groups");
     for (size_t g = 0; g < plan.groups.size(); ++g) {
-        films_.emplace_back(w, h, plan.layers);
+        const bool combinedOnly = layout == FilmLayout::AllAndHalf && g == 1;
+        films_.emplace_back(w, h, combinedOnly ? TypeLayers::of({}) : plan.layers);
         splatBuffers_.emplace_back(w, h);
     }
     for (const PlannedChain& c : plan.chains) {
@@ -145,10 +151,20 @@ void ChainRunner::publishProgressValues(ProgressReporter& progress) const {
 }
 
 void ChainRunner::addSplats() {
+    auto addTo = [&](uint32_t f, const Chain& c) {
+        SplatBuffer& buffer = splatBuffers_[f];
+        for (const Chain::Splat& s : c.splats) buffer.addTent(s.raster, s.type, s.value);
+        buffer.flushInto(films_[f]);
+    };
     for (const auto& c : chains_) {
-        SplatBuffer& buffer = splatBuffers_[c->plan.group];
-        for (const Chain::Splat& s : c->splats) buffer.addTent(s.raster, s.type, s.value);
-        buffer.flushInto(films_[c->plan.group]);
+        if (layout_ == FilmLayout::PerGroup) {
+            addTo(c->plan.group, *c);
+        } else {
+            // Chain by chain into film 0, and group 1's also into film 1: each chain's sums
+            // are rounded to fixed point once per film, so film 0 = group 0 + group 1 exactly.
+            addTo(0, *c);
+            if (c->plan.group == 1) addTo(1, *c);
+        }
         c->splats.clear();
     }
 }

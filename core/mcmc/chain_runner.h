@@ -28,11 +28,22 @@ class ChainRunner {
     using MutationFactory = std::function<MutationSet(uint32_t group)>;
     /// The restriction of a group's chains (empty: none).
     using RestrictionFactory = std::function<PathRestriction(uint32_t group)>;
+    /// Where the chains' splats go.
+    enum class FilmLayout {
+        /// Film g holds group g's chains, with the plan's type layers.
+        PerGroup,
+        /// A plan of two halves of the same b (groups 0 and 1: mlt's chains beside the direct
+        /// light): film 0 holds every chain, with the plan's type layers, and film 1 only the
+        /// combined image of group 1's chains. Group 0's image is film 0 less film 1, exactly
+        /// (fixed-point sums), so the halves cost one layered film, not two (issue #24).
+        AllAndHalf,
+    };
 
     /// Builds every chain from the plan; std::invalid_argument when a start is not a path of
     /// this scene with f* > 0.
     ChainRunner(const RenderContext& ctx, const ChainPlan& plan, const MutationFactory& mutations,
-                const RestrictionFactory& restrictions = {}, uint64_t roundMutations = 1024);
+                const RestrictionFactory& restrictions = {}, uint64_t roundMutations = 1024,
+                FilmLayout layout = FilmLayout::PerGroup);
     ~ChainRunner();
 
     /// Runs the plan's mutations, or rounds until `seconds` have passed when seconds > 0 (then
@@ -46,15 +57,18 @@ class ChainRunner {
     /// the films resolve with it. One function for the in-process image and the merged shards'.
     static float filmScale(double b, int width, int height, uint64_t done);
 
-    /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it).
+    /// Group g's image: its film scaled by b_g W H / N_g (the mutations done in it); PerGroup
+    /// layout only.
     LayeredImage resolveGroup(uint32_t group, ThreadPool* pool) const;
     /// resolveGroup's image, consuming group g's film (its memory given back layer by layer).
     LayeredImage takeResolvedGroup(uint32_t group, ThreadPool* pool);
     /// Only the combined image of group g (no type layers), scaled the same way.
     Image resolveGroupCombined(uint32_t group) const;
-    const Film& film(uint32_t group) const { return films_[group]; }
-    /// Group g's film, moved out (a finished shard's result; the runner resolves no more).
-    Film takeFilm(uint32_t group) { return std::move(films_[group]); }
+    /// Film f (group f's in the PerGroup layout; see FilmLayout).
+    const Film& film(uint32_t f) const { return films_[f]; }
+    size_t filmCount() const { return films_.size(); }
+    /// Film f, moved out (a finished shard's result; the runner resolves no more).
+    Film takeFilm(uint32_t f) { return std::move(films_[f]); }
     uint64_t mutationsDone(int group = -1) const;
     /// Per mutation name: proposed, accepted, sum of a, over all chains (of a group if >= 0).
     std::vector<std::pair<std::string, MutationStats>> mutationStats(int group = -1) const;
@@ -79,6 +93,7 @@ class ChainRunner {
     const RenderContext& ctx_;
     const ChainPlan& plan_;
     uint64_t roundMutations_;
+    FilmLayout layout_;
     std::vector<std::unique_ptr<Chain>> chains_;
     std::vector<Film> films_;
     std::vector<SplatBuffer> splatBuffers_;

@@ -13,7 +13,7 @@ namespace {
 ShardWork chainShardWork(ChainRunner& runner, const ChainPlan& plan) {
     ShardWork work;
     for (uint32_t g = 0; g < plan.groups.size(); ++g) {
-        work.films.push_back(runner.takeFilm(g));
+        work.films.push_back(runner.takeFilm(g));  // film g: see the runner's FilmLayout
         work.counts.push_back(runner.mutationsDone(int(g)));
     }
     work.sums["rays"] = double(runner.rays());
@@ -50,9 +50,9 @@ void requireMutationBudget(const RenderContext& ctx, const std::string& algorith
 ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_t shard,
                         uint32_t shards, const ChainRunner::MutationFactory& mutations,
                         const ChainRunner::RestrictionFactory& restrictions,
-                        uint64_t roundMutations) {
+                        uint64_t roundMutations, ChainRunner::FilmLayout layout) {
     const ChainPlan part = chainShardPlan(plan, shard, shards);
-    ChainRunner runner(ctx, part, mutations, restrictions, roundMutations);
+    ChainRunner runner(ctx, part, mutations, restrictions, roundMutations, layout);
     ProgressReporter progress(ctx.observer, "render", "mutations", double(part.mutations()));
     runner.run(progress, 0);
     progress.flush();

@@ -23,12 +23,13 @@ ChainPlan chainShardPlan(const ChainPlan& plan, uint32_t shard, uint32_t shards)
 void requireMutationBudget(const RenderContext& ctx, const std::string& algorithm);
 
 /// Runs shard `shard` of `shards` of `plan` (its range of chains) to the end and returns its
-/// work: one film and one mutation count per group, "rays", "proposed_<m>" and "accepted_<m>"
-/// per mutation, "group_<g>_proposed" and "group_<g>_accepted" per group.
+/// work: one film (laid out as `layout`) and one mutation count per group, "rays", "proposed_<m>"
+/// and "accepted_<m>" per mutation, "group_<g>_proposed" and "group_<g>_accepted" per group.
 ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_t shard,
                         uint32_t shards, const ChainRunner::MutationFactory& mutations,
                         const ChainRunner::RestrictionFactory& restrictions,
-                        uint64_t roundMutations);
+                        uint64_t roundMutations,
+                        ChainRunner::FilmLayout layout = ChainRunner::FilmLayout::PerGroup);
 
 /// The statistics of merged chain work, as addChainStats gives them in process (without the
 /// timings, which a merge does not know).

@@ -202,16 +202,20 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
     return out;
 }
 
-double chainHalvesError(const Film& a, uint64_t mutationsA, const Film& b, uint64_t mutationsB,
+double chainHalvesError(const Film& all, const Film& half, uint64_t mutationsA, uint64_t mutationsB,
                         double bValue, int width, int height) {
     if (mutationsA == 0 || mutationsB == 0) return 0;
     const double pixels = double(width) * height;
-    const Image ia = a.resolveCombined(float(bValue * pixels / double(mutationsA)));
-    const Image ib = b.resolveCombined(float(bValue * pixels / double(mutationsB)));
+    const float scaleA = float(bValue * pixels / double(mutationsA));
+    const Image allA = all.resolveCombined(scaleA);  // (a + b) scaled as a
+    const Image halfA = half.resolveCombined(scaleA);
+    const Image halfB = half.resolveCombined(float(bValue * pixels / double(mutationsB)));
     double sum = 0;
-    for (size_t i = 0; i + 2 < ia.rgb.size(); i += 3) {
-        double d = double(luminance(Rgb(ia.rgb[i], ia.rgb[i + 1], ia.rgb[i + 2]))) -
-                   double(luminance(Rgb(ib.rgb[i], ib.rgb[i + 1], ib.rgb[i + 2])));
+    for (size_t i = 0; i + 2 < allA.rgb.size(); i += 3) {
+        const Rgb a(allA.rgb[i] - halfA.rgb[i], allA.rgb[i + 1] - halfA.rgb[i + 1],
+                    allA.rgb[i + 2] - halfA.rgb[i + 2]);
+        const Rgb b(halfB.rgb[i], halfB.rgb[i + 1], halfB.rgb[i + 2]);
+        const double d = double(luminance(a)) - double(luminance(b));
         sum += d * d;
     }
     return sum / 4;
@@ -239,11 +243,12 @@ LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayer
     return film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, maxTypeLayers, pool);
 }
 
-LayeredImage addDisjointParts(const LayeredImage& a, const LayeredImage& b, int maxTypeLayers) {
+LayeredImage addDisjointParts(LayeredImage a, LayeredImage b, int maxTypeLayers) {
+    // The parts' images are moved into the sum, not copied (a 1080p layer is 25 MB).
     LayeredImage out;
-    out.combined = a.combined;
+    out.combined = std::move(a.combined);
     if (out.combined.empty())
-        out.combined = b.combined;
+        out.combined = std::move(b.combined);
     else if (!b.combined.empty())
         for (size_t i = 0; i < out.combined.rgb.size(); ++i)
             out.combined.rgb[i] += b.combined.rgb[i];
@@ -251,12 +256,12 @@ LayeredImage addDisjointParts(const LayeredImage& a, const LayeredImage& b, int 
     struct Ranked {
         PathType type;
         double total;
-        const Image* image;
+        Image* image;
     };
     std::vector<Ranked> ranked;
     std::vector<const Image*> others;  // a's "other", then b's
-    for (const LayeredImage* part : {&a, &b})
-        for (const ImageLayer& layer : part->layers) {
+    for (LayeredImage* part : {&a, &b})
+        for (ImageLayer& layer : part->layers) {
             PathType type;
             if (layer.name == Film::kOtherLayer || !PathType::parse(layer.name, type)) {
                 others.push_back(&layer.image);
@@ -275,7 +280,7 @@ LayeredImage addDisjointParts(const LayeredImage& a, const LayeredImage& b, int 
                      [](const Ranked& x, const Ranked& y) { return x.total > y.total; });
     const size_t keep = std::min(ranked.size(), size_t(std::max(0, maxTypeLayers)));
     for (size_t i = 0; i < keep; ++i)
-        out.layers.push_back({ranked[i].type.toString(), *ranked[i].image});
+        out.layers.push_back({ranked[i].type.toString(), std::move(*ranked[i].image)});
     // "other": both parts' own, then the types left out in PathType order.
     std::vector<const Ranked*> dropped;
     for (size_t i = keep; i < ranked.size(); ++i) dropped.push_back(&ranked[i]);

@@ -108,9 +108,11 @@ struct DirectPilot {
 DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress);
 
 /// The error of the chains' image, sum over pixels of its variance, from two halves of the
-/// chains (two films of independent chains, each resolved with b W H / its own mutations):
-/// (I_a - I_b)^2 / 4 summed over pixels, in luminance. 0 when a half has no mutation.
-double chainHalvesError(const Film& a, uint64_t mutationsA, const Film& b, uint64_t mutationsB,
+/// chains (independent chains, each half's image resolved with b W H / its own mutations):
+/// (I_a - I_b)^2 / 4 summed over pixels, in luminance. The halves come as `all` (both halves'
+/// splats) and `half` (half b's alone), so I_a is made of all less half. 0 when a half has no
+/// mutation.
+double chainHalvesError(const Film& all, const Film& half, uint64_t mutationsA, uint64_t mutationsB,
                         double bValue, int width, int height);
 
 /// The split of the budget between the per-pixel direct light and the chains (issue #22 1),
@@ -136,7 +138,8 @@ double neymanDirectShare(double directVariance, double directCost, double chainE
 /// together as Film::resolve ranks them (largest total luminance first, ties in PathType
 /// order), the first `maxTypeLayers` kept and the rest added into "other" with both parts'
 /// "other" layers. A type in the top of the sum is in the top of its own part, so this is the
-/// layering the sum of the two films would give. Deterministic (fixed summation orders).
-LayeredImage addDisjointParts(const LayeredImage& a, const LayeredImage& b, int maxTypeLayers);
+/// layering the sum of the two films would give. Deterministic (fixed summation orders). The
+/// parts are taken by value: pass them with std::move where they are no longer needed.
+LayeredImage addDisjointParts(LayeredImage a, LayeredImage b, int maxTypeLayers);
 
 }  // namespace partita

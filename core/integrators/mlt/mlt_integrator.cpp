@@ -149,18 +149,19 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     return out;
 }
 
+ChainRunner::FilmLayout mltFilmLayout(bool directApart) {
+    return directApart ? ChainRunner::FilmLayout::AllAndHalf : ChainRunner::FilmLayout::PerGroup;
+}
+
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings) {
     return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, settings.mutations);
 }
 
 LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
                                 ThreadPool* pool) {
-    Film sum(rs.width, rs.height, chains.films[0]->layers());
-    sum.merge(*chains.films[0]);
-    sum.merge(*chains.films[1]);
-    const uint64_t done = chains.mutations[0] + chains.mutations[1];
-    return sum.resolve(ChainRunner::filmScale(chains.b, rs.width, rs.height, done),
-                       rs.maxTypeLayers, pool);
+    return chains.all->resolve(
+        ChainRunner::filmScale(chains.b, rs.width, rs.height, chains.mutationsDone()),
+        rs.maxTypeLayers, pool);
 }
 
 DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
@@ -179,13 +180,13 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
         }
         out.variance = pilot->variance;
         out.pilotRays = pilot->rays;
-        out.chainError = chainHalvesError(*chains.films[0], chains.mutations[0], *chains.films[1],
+        out.chainError = chainHalvesError(*chains.all, *chains.odd, chains.mutations[0],
                                           chains.mutations[1], chains.b, rs.width, rs.height);
         // Costs in rays: c_d of one sample per pixel (the pilot's two), T_c the chains'.
         spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, 2,
                               std::max<uint64_t>(2, settings.directMaxSpp));
     }
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.films[0]->layers());
+    out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.all->layers());
     // No progress reports: the render phase's last report stays the chains' (mutations).
     out.renderer->renderPass({0, spp}, nullptr);
     out.spp = spp;
@@ -258,9 +259,10 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
     ChainRunner::RestrictionFactory restrictions;
     if (apart) restrictions = [](uint32_t) { return indirectLightOnly(); };
-    ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations);
+    ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations,
+                       mltFilmLayout(apart));
     ChainHalves halves;
-    if (apart) halves = {{&runner.film(0), &runner.film(1)}, {0, 0}, plan.groups[0].b};
+    if (apart) halves = {&runner.film(0), &runner.film(1), {0, 0}, plan.groups[0].b};
     auto countHalves = [&] {
         halves.mutations[0] = runner.mutationsDone(0);
         halves.mutations[1] = runner.mutationsDone(1);
@@ -274,7 +276,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     LayeredImage directImage;
     auto resolve = [&](ThreadPool* pool) {
         LayeredImage chains = chainImage(pool);
-        return apart ? addDisjointParts(directImage, chains, rs.maxTypeLayers) : chains;
+        return apart ? addDisjointParts(directImage, std::move(chains), rs.maxTypeLayers) : chains;
     };
 
     DirectLightRun direct;
@@ -320,8 +322,8 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             direct.variance = pilot.variance;
             direct.pilotRays = pilot.rays;
             direct.chainError =
-                chainHalvesError(*halves.films[0], halves.mutations[0], *halves.films[1],
-                                 halves.mutations[1], halves.b, rs.width, rs.height);
+                chainHalvesError(*halves.all, *halves.odd, halves.mutations[0], halves.mutations[1],
+                                 halves.b, rs.width, rs.height);
             const double perSpp = pilot.seconds / 2;
             const double share =
                 neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
@@ -364,33 +366,26 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
     const double directRays = direct.rays();
-    size_t types = runner.film(0).typeCount();
-    if (apart) {
-        // The kept types either half saw (a sum film's typeCount, without making one).
-        std::map<PathType, double> seen = runner.film(0).typeLuminance();
-        seen.merge(runner.film(1).typeLuminance());
-        types = seen.size() + directTypes;
-    }
-    st.values["path_types"] = double(types);
+    st.values["path_types"] = double(runner.film(0).typeCount() + directTypes);
     addChainStats(st, runner, plan, secondsSince(start), startupSeconds,
                   bootstrap.rays + uint64_t(directRays), pixels);
     addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
     if (apart) st.values["direct_seconds"] = direct.seconds;
     // Last: the chains' image consumes their film (its memory given back layer by layer); with
-    // the direct light apart, half 1 is summed into half 0 first and the direct film is let go
-    // (its image is made): the same image as resolve(), with two films fewer at the peak.
+    // the direct light apart, the direct film and the odd half's are let go first (their parts
+    // are made): the same image as resolve(), with two films fewer at the peak.
     if (!apart) {
         result.image = runner.takeResolvedGroup(0, &ctx.pool);
         return result;
     }
     direct.renderer.reset();
     countHalves();
-    Film sum = runner.takeFilm(0);
-    sum.merge(runner.takeFilm(1));
-    const uint64_t done = halves.mutations[0] + halves.mutations[1];
-    LayeredImage chains = sum.takeResolved(
-        ChainRunner::filmScale(halves.b, rs.width, rs.height, done), rs.maxTypeLayers, &ctx.pool);
-    result.image = addDisjointParts(directImage, chains, rs.maxTypeLayers);
+    runner.takeFilm(1);
+    Film all = runner.takeFilm(0);
+    LayeredImage chains = all.takeResolved(
+        ChainRunner::filmScale(halves.b, rs.width, rs.height, halves.mutationsDone()),
+        rs.maxTypeLayers, &ctx.pool);
+    result.image = addDisjointParts(std::move(directImage), std::move(chains), rs.maxTypeLayers);
     return result;
 }
 

@@ -19,6 +19,7 @@
 #include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "mcmc/chain_plan.h"
+#include "mcmc/chain_runner.h"
 #include "mcmc/markov_chain.h"
 #include "mcmc/veach_mutations.h"
 
@@ -70,13 +71,16 @@ struct MltStart {
 MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
 
 /// The chains of a per-pixel-direct render: two halves (even and odd chains, groups 0 and 1)
-/// of the same b.
+/// of the same b, in the runner's AllAndHalf layout: `all` holds every chain (with the type
+/// layers), `odd` the combined image of the odd chains only.
 struct ChainHalves {
-    const Film* films[2] = {nullptr, nullptr};
-    uint64_t mutations[2] = {0, 0};
+    const Film* all = nullptr;
+    const Film* odd = nullptr;
+    uint64_t mutations[2] = {0, 0};  // of the even and the odd chains
     double b = 0;
+    uint64_t mutationsDone() const { return mutations[0] + mutations[1]; }
 };
-/// Their image: both films summed, scaled by b W H / (all their mutations).
+/// Their image: the `all` film scaled by b W H / (all their mutations).
 LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,
                                 ThreadPool* pool);
 
@@ -108,6 +112,9 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
 /// the rule's direct_variance, chain_error and (time budgets) direct_time_share.
 void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& direct, double bDirect,
                          double chainRays);
+
+/// The chains' films: per group, or with the direct light apart all chains and the odd half.
+ChainRunner::FilmLayout mltFilmLayout(bool directApart);
 
 /// One chain's mutations.
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings);

@@ -29,7 +29,9 @@ std::vector<uint8_t> serializeMltPlan(const MltPlan& plan) {
     ByteWriter w;
     w.put(plan.bootstrapRays);
     w.putBytes(serializeChainPlan(plan.chains));
-    w.put(uint8_t(plan.directApart));
+    // 0: the chains alone; 2: the direct light apart, the chains' films in the runner's
+    // AllAndHalf layout (1 was two layered halves, which this build's shards do not make).
+    w.put(uint8_t(plan.directApart ? 2 : 0));
     w.put(plan.bDirect);
     return std::move(w.bytes);
 }
@@ -39,7 +41,10 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
     MltPlan plan;
     plan.bootstrapRays = r.get<uint64_t>();
     plan.chains = deserializeChainPlan(r.getBytes());
-    plan.directApart = r.get<uint8_t>() != 0;
+    const uint8_t direct = r.get<uint8_t>();
+    if (direct == 1) r.fail("a plan of an older build (its chain halves in two layered films)");
+    if (direct > 2) r.fail("unknown direct-light mode " + std::to_string(direct));
+    plan.directApart = direct == 2;
     plan.bDirect = r.get<double>();
     if (plan.chains.groups.size() != (plan.directApart ? 2u : 1u))
         r.fail("expected one chain group, or two with the direct light apart");
@@ -67,7 +72,7 @@ ShardWork MltShards::renderShard(const RenderContext& ctx, std::span<const uint8
     ChainRunner::RestrictionFactory restrictions;
     if (plan.directApart) restrictions = [](uint32_t) { return indirectLightOnly(); };
     return runChainShard(ctx, plan.chains, shard, shards, makeMutations, restrictions,
-                         settings_.roundMutations);
+                         settings_.roundMutations, mltFilmLayout(plan.directApart));
 }
 
 RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
@@ -79,6 +84,8 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     if (merged.films.size() != films || merged.counts.size() != films)
         throw std::invalid_argument("merged mlt work has " + std::to_string(merged.films.size()) +
                                     " films, expected " + std::to_string(films));
+    if (plan.directApart && !merged.films[1].layers().keepsNone())
+        throw std::invalid_argument("merged mlt work: the odd chains' film has type layers");
     const double pixels = double(rs.width) * rs.height;
     RenderResult result;
     RenderStats& st = result.stats;
@@ -99,16 +106,14 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     // The direct light after the chains, as the one-process render: the same rule on the same
     // films and rays, so the same samples per pixel and film.
     const ChainHalves halves{
-        {&merged.films[0], &merged.films[1]}, {merged.counts[0], merged.counts[1]}, b};
+        &merged.films[0], &merged.films[1], {merged.counts[0], merged.counts[1]}, b};
     const DirectLightRun direct =
         directLightAfterChains(ctx, settings_, halves, chainRays, nullptr);
     result.image = addDisjointParts(
         resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, nullptr),
         resolveChainHalves(halves, rs, nullptr), rs.maxTypeLayers);
-    Film chains(rs.width, rs.height, plan.chains.layers);
-    chains.merge(merged.films[0]);
-    chains.merge(merged.films[1]);
-    st.values["path_types"] = double(chains.typeCount() + direct.renderer->film().typeCount());
+    st.values["path_types"] =
+        double(merged.films[0].typeCount() + direct.renderer->film().typeCount());
     st.values["rays"] += direct.rays();
     addDirectLightStats(st, true, direct, plan.bDirect, chainRays);
     return result;

@@ -261,6 +261,61 @@ TEST(MltDirect, PerPixelPartAndChainsHaveNoTypeInCommon) {
     }
 }
 
+TEST(MltDirect, TheChainHalvesShareOneLayeredFilm) {
+    // The runner's AllAndHalf layout (issue #24: one layered film for both halves, not two)
+    // holds exactly what the per-group films hold: film 0 is their sum bit for bit, film 1 the
+    // odd chains' combined image with no type buffer, and the halves' error is the same.
+    RenderScene scene = loadScene("cornell-glass");
+    RenderSettings st = mltSettings(16, 3, "per-pixel");
+    Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    RenderObserver observer;
+    RenderContext ctx{scene, camera, st, pool, cancel, observer};
+    MltSettings settings;
+    settings.bootstrapSamples = 20000;
+    const MltStart start = startMlt(ctx, settings);
+    ASSERT_EQ(start.plan.groups.size(), 2u);
+    auto run = [&](ChainRunner::FilmLayout layout) {
+        auto runner = std::make_unique<ChainRunner>(
+            ctx, start.plan, [&](uint32_t) { return makeMltMutations(ctx, settings); },
+            [](uint32_t) { return indirectLightOnly(); }, 1024, layout);
+        ProgressReporter progress(observer, "render", "mutations", 0);
+        runner->run(progress, 0);
+        return runner;
+    };
+    auto perGroup = run(ChainRunner::FilmLayout::PerGroup);
+    auto allAndHalf = run(ChainRunner::FilmLayout::AllAndHalf);
+
+    Film sum(st.width, st.height, start.plan.layers);
+    sum.merge(perGroup->film(0));
+    sum.merge(perGroup->film(1));
+    test::expectSameBits(sum.resolve(1.0f, 1024), allAndHalf->film(0).resolve(1.0f, 1024));
+    EXPECT_TRUE(allAndHalf->film(1).layers().keepsNone());
+    EXPECT_LE(allAndHalf->film(1).maxBuffersPerTile(), 1u);
+    const Image odd = perGroup->film(1).resolveCombined(1.0f);
+    EXPECT_EQ(odd.rgb, allAndHalf->film(1).resolveCombined(1.0f).rgb);
+
+    // The error of the halves, from the two per-group films directly.
+    const uint64_t even = perGroup->mutationsDone(0), oddDone = perGroup->mutationsDone(1);
+    ASSERT_GT(even, 0u);
+    ASSERT_GT(oddDone, 0u);
+    const double b = start.plan.groups[0].b, pixels = double(st.width) * st.height;
+    const Image ia = perGroup->film(0).resolveCombined(float(b * pixels / double(even)));
+    const Image ib = perGroup->film(1).resolveCombined(float(b * pixels / double(oddDone)));
+    double expected = 0;
+    for (size_t i = 0; i + 2 < ia.rgb.size(); i += 3) {
+        const double d = double(luminance(Rgb(ia.rgb[i], ia.rgb[i + 1], ia.rgb[i + 2]))) -
+                         double(luminance(Rgb(ib.rgb[i], ib.rgb[i + 1], ib.rgb[i + 2])));
+        expected += d * d / 4;
+    }
+    ASSERT_GT(expected, 0);
+    const double error = chainHalvesError(allAndHalf->film(0), allAndHalf->film(1), even, oddDone,
+                                          b, st.width, st.height);
+    // Only float rounding apart: film 0 less film 1 is resolved in float, not in fixed point.
+    EXPECT_NEAR(error, expected, 1e-4 * expected);
+}
+
 TEST(MltDirect, ChainsModeIsTheImageOfTheCodePathBeforeTheSplit) {
     // What MltAlgorithm::render did before "direct" existed: the bootstrap, the plan of all
     // candidates with the bootstrap's b, unrestricted chains, group 0's film.
