@@ -42,11 +42,12 @@ int partitionsOf(const RenderSettings& s) {
 
 /// Films an algorithm holds at once: pt, bdpt and mlt one (bdpt's light tracing splats into
 /// its camera film), partitioned and guided one per partition group (K and the complement),
-/// which keep no type layers. mlt with the direct light per pixel (its default) four: the
-/// chains' two halves, their sum to resolve, the direct light's film.
+/// which keep no type layers. mlt with the direct light per pixel (its default) three: the
+/// chains' (all of them, with the type layers), the odd half's combined image, the direct
+/// light's film (its types are not the chains', so the type buffers are counted once).
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
     if (hasPartitions(algorithm)) return std::max(0, partitionsOf(s)) + 1;
-    if (algorithm == "mlt" && mltParameters().resolve(s.parameters).direct != "chains") return 4;
+    if (algorithm == "mlt" && mltParameters().resolve(s.parameters).direct != "chains") return 3;
     return 1;
 }
 
