@@ -11,6 +11,7 @@
 #include "integrators/layer_survey.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "integrators/partitioned/partitioned_settings.h"
+#include "mcmc/startup_rule.h"
 #include "mcmc/bootstrap.h"
 
 namespace partita::server {
@@ -103,7 +104,7 @@ double chainBytes(int chains, uint64_t roundMutations, double pixels) {
 MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
     const MltSettings defaults = mltParameters().resolve(s.parameters);
     constexpr double kCandidateBytes = sizeof(BootstrapCandidate);
-    uint64_t samples = defaults.bootstrapSamples;
+    uint64_t samples = StartupRule::bootstrapSamples(defaults.bootstrapSamples, s);
     MltExtra e;
     e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
     e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
@@ -118,7 +119,7 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
 MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
     const PartitionedSettings defaults = partitionedParameters().resolve(s.parameters);
     constexpr double kRecordsPerSample = 13, kRecordBytes = sizeof(BootstrapCandidate);
-    uint64_t samples = defaults.bootstrapSamples;
+    uint64_t samples = StartupRule::bootstrapSamples(defaults.bootstrapSamples, s);
     MltExtra e;
     e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,
                            double(defaults.prepassMemoryBytes));

@@ -71,6 +71,10 @@ void addChainStats(RenderStats& st, const ChainRunner& runner, const ChainPlan& 
     double rays = double(runner.rays() + startupRays);
     st.values["rays"] = rays;
     st.values["rays_per_second"] = seconds > 0 ? rays / seconds : 0;
+    // The mean burn-in steps a chain ran (startup_rule.h).
+    st.values["burn_in_steps"] = double(runner.burnInSteps());
+    st.values["burn_in"] =
+        plan.chains.empty() ? 0 : double(runner.burnInSteps()) / double(plan.chains.size());
     st.values["stuck_chains"] = double(runner.stuckChains());
     st.values["type_bound_chains"] = double(runner.typeBoundChains());
     for (const auto& [name, m] : runner.mutationStats()) {

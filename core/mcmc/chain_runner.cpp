@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "camera.h"
+#include "mcmc/startup_rule.h"
 #include "path/path.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
@@ -28,6 +29,7 @@ struct ChainRunner::Chain {
     MarkovChain markov;
     const PlannedChain& plan;
     uint64_t done = 0;
+    uint64_t burnInDone = 0;     // burn-in steps run
     uint64_t lastMove = 0;       // 1 + the index of its last mutation that moved; 0: none yet
     PathType startType;          // its path's type when its counted mutations began
     bool leftStartType = false;  // its path's type has differed from startType since
@@ -69,7 +71,7 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
     // A time budget is not reproducible anyway, so its rounds shrink to a fraction of a second
     // (to stop close to the budget); a mutation budget keeps the fixed rounds of the plan.
     uint64_t roundLength = seconds > 0 ? std::min<uint64_t>(64, roundMutations_) : roundMutations_;
-    burnIn();
+    burnIn(seconds);
     for (;;) {
         bool remaining = false;
         for (const auto& c : chains_) remaining |= c->done < c->plan.mutations;
@@ -92,15 +94,29 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
     }
 }
 
-void ChainRunner::burnIn() {
+void ChainRunner::burnIn(double seconds) {
+    using Clock = std::chrono::steady_clock;
+    const auto deadline =
+        Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                           std::chrono::duration<double>(seconds * StartupRule::kStartupShare));
     ctx_.pool.parallelFor(chains_.size(), [&](size_t k) {
         Chain& c = *chains_[k];
         auto none = [](Vec2f, PathType, Rgb) {};
         for (uint64_t i = 0; i < c.plan.burnIn; ++i) {
-            if ((i & 63) == 0) ctx_.throwIfCancelled();
+            if ((i & 63) == 0) {
+                ctx_.throwIfCancelled();
+                if (seconds > 0 && Clock::now() >= deadline) break;
+            }
             c.markov.step(none);
+            ++c.burnInDone;
         }
     });
+}
+
+uint64_t ChainRunner::burnInSteps() const {
+    uint64_t n = 0;
+    for (const auto& c : chains_) n += c->burnInDone;
+    return n;
 }
 
 void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {

@@ -80,12 +80,17 @@ class ChainRunner {
     /// specular chains that only small perturbations change, issue #22 2).
     uint64_t typeBoundChains(int group = -1) const;
     uint64_t rays() const;
+    /// Burn-in steps run, over all chains (a time budget's burn-in stops at its share of the
+    /// time, startup_rule.h).
+    uint64_t burnInSteps() const;
 
   private:
     /// filmScale of group g.
     float groupScale(uint32_t group) const;
     struct Chain;
-    void burnIn();  // every chain's burn-in steps, unsplatted
+    /// Every chain's burn-in steps, unsplatted; with seconds > 0 (a time budget) only until
+    /// StartupRule::kStartupShare of them have passed.
+    void burnIn(double seconds);
     void runRound(uint64_t roundLength, ProgressReporter& progress);
     void addSplats();
     void publishProgressValues(ProgressReporter& progress) const;

@@ -13,11 +13,12 @@
 namespace partita {
 
 /// "bootstrap": samples of the start-up (mlt's BDPT bootstrap, the partitioned methods'
-/// pre-pass); `help` says what they estimate for the algorithm.
+/// pre-pass); `help` says what they estimate for the algorithm. 0 (the default): as many as
+/// the start-up rule gives the job's pixels and budget (startup_rule.h).
 inline ParameterSpec bootstrapParameter(std::string help) {
-    return ParameterSpec("bootstrap", std::move(help))
+    return ParameterSpec("bootstrap", std::move(help) + " (0: by the pixels and the budget)")
         .withUnit("samples")
-        .within(1, double(uint64_t(1) << 40));
+        .within(0, double(uint64_t(1) << 40));
 }
 
 /// "chains": the Markov chains of the render, fewer when the budget would give a chain too few

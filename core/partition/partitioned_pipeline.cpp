@@ -8,6 +8,7 @@
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/startup_parameters.h"
+#include "mcmc/startup_rule.h"
 #include "path_type_bytes.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -68,7 +69,7 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
             chain.group = uint32_t(g);
             chain.stream = stream++;
             chain.mutations = shareRange(mutations[g], starts.size(), k).count();
-            chain.burnIn = s.burnIn;
+            chain.burnIn = StartupRule::burnIn(s.burnIn, chain.mutations, ctx.settings);
             chain.start = std::move(start);
             plan.chains.push_back(std::move(chain));
         }
@@ -173,7 +174,7 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     std::string why;
     StartupEstimator estimator = choosePrepassEstimator(ctx.scene, settings.prepass, why);
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed, estimator);
-    uint64_t samples = settings.bootstrapSamples;
+    uint64_t samples = StartupRule::bootstrapSamples(settings.bootstrapSamples, rs);
     PrepassResult prepass = runPrepass(ctx, sampler, samples, settings.prepassMemoryBytes,
                                        startupDeadline(rs, start, settings.startupShare));
     double prepassSeconds = secondsSince(start);
@@ -208,7 +209,6 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
         double(prepass.candidatesB.size() * sizeof(BootstrapCandidate));
     st.values["prepass_record_allocated_bytes"] =
         double(prepass.candidatesB.capacity() * sizeof(BootstrapCandidate));
-    st.values["burn_in"] = double(settings.burnIn);
     for (const auto& [key, value] : setupStats.values) st.values[key] = value;
     for (const auto& [key, label] : setupStats.labels) st.labels[key] = label;
     st.values["startup_seconds"] = out.startupSeconds;

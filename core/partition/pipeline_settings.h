@@ -18,9 +18,9 @@ struct PartitionPipelineSettings {
     /// seeds with pt), and partitioned's RMSE at 32 mpp went from 0.99-1.33x mlt's to
     /// 0.84-0.98x on every shipped scene (docs/partitioned-study.md).
     std::string prepass = "bdpt";
-    uint64_t bootstrapSamples = 100000;  // the pre-pass's: the same start-up budget as mlt's
+    uint64_t bootstrapSamples = 0;  // the pre-pass's, 0: by the rule (mcmc/startup_rule.h), as mlt's
     double startupShare = 0.1;  // with a time budget, the pre-pass's share at most (as mlt's)
-    uint64_t burnIn = 1024;     // per chain, before its first splat (the paper's)
+    uint64_t burnIn = 1024;  // per chain, before its first splat (the paper's), at most the rule's
     int chains = 256;           // over all partitions, in proportion to P(i)
     uint64_t minMutationsPerChain = 32;
     uint64_t roundMutations = 1024;

@@ -17,6 +17,7 @@ ShardWork chainShardWork(ChainRunner& runner, const ChainPlan& plan) {
         work.counts.push_back(runner.mutationsDone(int(g)));
     }
     work.sums["rays"] = double(runner.rays());
+    work.sums["burn_in_steps"] = double(runner.burnInSteps());
     work.sums["stuck_chains"] = double(runner.stuckChains());
     work.sums["type_bound_chains"] = double(runner.typeBoundChains());
     for (const auto& [name, m] : runner.mutationStats()) {
@@ -76,6 +77,9 @@ void addMergedChainStats(RenderStats& st, const ShardWork& merged, const ChainPl
     st.values["chains"] = double(plan.chains.size());
     st.values["mutations"] = done;
     st.values["mpp"] = done / pixels;
+    const auto burnIn = merged.sums.find("burn_in_steps");
+    if (burnIn != merged.sums.end() && !plan.chains.empty())
+        st.values["burn_in"] = burnIn->second / double(plan.chains.size());
     for (const auto& [name, value] : merged.sums) {
         st.values[name] = value;
         if (name.rfind("proposed_", 0) != 0) continue;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "in_process.h"
+#include "mcmc/startup_rule.h"
 #include "service_client.h"
 
 namespace partita::test {
@@ -80,8 +81,16 @@ TEST(ServiceMlt, JobHasBootstrapAndRenderPhasesAcceptanceAPreviewLayersAndStats)
         }
     }
     ASSERT_FALSE(bootstrap.empty());
-    EXPECT_EQ(bootstrap.back().done(), 100000) << "mlt's default bootstrap samples";
-    EXPECT_EQ(bootstrap.back().total(), 100000);
+    // The start-up rule's samples (mcmc/startup_rule.h) for 16 x 12 x kMpp mutations.
+    RenderSettings rule;
+    rule.width = 16;
+    rule.height = 12;
+    rule.budgetKind = BudgetKind::MutationsPerPixel;
+    rule.budget = kMpp;
+    const uint64_t samples = StartupRule::bootstrapSamples(0, rule);
+    EXPECT_EQ(samples, 7865u) << "a tenth of 393216 mutations, a sample costing five";
+    EXPECT_EQ(bootstrap.back().done(), samples) << "mlt's default bootstrap";
+    EXPECT_EQ(bootstrap.back().total(), samples);
     ASSERT_FALSE(render.empty());
     const pb::Progress& last = render.back();
     EXPECT_EQ(last.unit(), "mutations");
@@ -129,7 +138,7 @@ TEST(ServiceMlt, JobHasBootstrapAndRenderPhasesAcceptanceAPreviewLayersAndStats)
     EXPECT_EQ(j["parameters"]["budget"], kMpp);
     const auto& stats = j["stats"];
     EXPECT_GT(stats["b"].get<double>(), 0);
-    EXPECT_EQ(stats["bootstrap_samples"], 100000.0);
+    EXPECT_EQ(stats["bootstrap_samples"], double(samples));
     EXPECT_EQ(stats["mutations"], 16.0 * 12 * kMpp);
     EXPECT_EQ(stats["chains"], 256.0);
     for (const std::string& name : kMutations) {
@@ -149,8 +158,10 @@ TEST(ServiceMlt, CancelDuringTheBootstrapEndsTheJobWithinASecond) {
     Daemon daemon(store.path());
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // pool: the bootstrap's 100000 BDPT samples take about 1.4 s on 2 threads.
-    Submitted job = submit(*stub, mltSpec("pool", 64, 48, 64));
+    // pool: 100000 BDPT bootstrap samples take about 1.4 s on 2 threads.
+    pb::JobSpec spec = mltSpec("pool", 64, 48, 64);
+    spec.set_bootstrap_samples(100000);
+    Submitted job = submit(*stub, spec);
     ASSERT_TRUE(job.status.ok()) << job.status.error_message();
     auto ctx = context();
     auto reader = stub->WatchJob(ctx.get(), watchRequest(job.id));

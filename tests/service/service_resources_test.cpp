@@ -48,14 +48,15 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "64"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12: pt is estimated at ~8 MiB, mlt at ~87 MiB, for whatever size: its bootstrap's
-    // candidates (100000 samples of ~14 candidates of 40 B: ~53 MiB) and its 256 chains'
-    // splats of a round (2 x 1024 x 40 B each: 20 MiB) and states (4 MiB).
+    // 16x12: pt is estimated at ~8 MiB, mlt with a time budget at ~87 MiB, for whatever size:
+    // its bootstrap's candidates (the start-up rule's 100000 samples for a time budget, of ~14
+    // candidates of 40 B: ~53 MiB) and its 256 chains' splats of a round (2 x 1024 x 40 B
+    // each: 20 MiB) and states (4 MiB).
     Submitted pt = submit(*stub, sceneSpec("cornell", 16, 12, 1));
     ASSERT_TRUE(pt.status.ok()) << pt.status.error_message();
     pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
     mlt.set_algorithm("mlt");
-    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
     Submitted refused = submit(*stub, mlt);
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     const std::string& why = refused.status.error_message();
@@ -72,6 +73,14 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     Submitted big = submit(*stub, more);
     EXPECT_EQ(big.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     EXPECT_EQ(big.status.error_message(), refused.status.error_message());
+
+    // A small mutation budget gets a small bootstrap by the start-up rule (4096 samples, the
+    // rule's least: ~2.2 MiB of candidates), and fits.
+    pb::JobSpec small = mlt;
+    small.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    Submitted fits = submit(*stub, small);
+    ASSERT_TRUE(fits.status.ok()) << fits.status.error_message();
+    EXPECT_EQ(waitForEnd(*stub, fits.id, 60s).state(), pb::JOB_STATE_DONE);
     EXPECT_NE(why.find("(33 type buffers)"), std::string::npos) << why;
 }
 
@@ -80,12 +89,13 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "48"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12, K = 10: ~58 MiB by the estimate: 11 films (K and the complement), the pre-pass's
-    // half-B records (50000 samples of ~13 records of 40 B: 24.8 MiB) and the 256 chains'
-    // splats and states as for mlt (24.5 MiB).
+    // 16x12, K = 10, a time budget: ~58 MiB by the estimate: 11 films (K and the complement),
+    // the pre-pass's half-B records (the start-up rule's 100000 samples for a time budget:
+    // 50000 of ~13 records of 40 B: 24.8 MiB) and the 256 chains' splats and states as for mlt
+    // (24.5 MiB).
     pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
     spec.set_algorithm("partitioned");
-    spec.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    spec.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
     spec.set_k(10);
     Submitted refused = submit(*stub, spec);
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
@@ -98,6 +108,7 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
 
     // A smaller pre-pass (4000 samples: 1015.6 KiB of records) fits, and runs.
     spec.set_bootstrap_samples(4000);
+    spec.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
     Submitted small = submit(*stub, spec);
     ASSERT_TRUE(small.status.ok()) << small.status.error_message();
     EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
@@ -105,9 +116,10 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     // So does mlt's bootstrap: 4000 samples instead of 100000 bring it under 48 MiB too.
     pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
     mlt.set_algorithm("mlt");
-    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
+    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
     EXPECT_EQ(submit(*stub, mlt).status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     mlt.set_bootstrap_samples(4000);
+    mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_MUTATIONS_PER_PIXEL);
     Submitted mltSmall = submit(*stub, mlt);
     ASSERT_TRUE(mltSmall.status.ok()) << mltSmall.status.error_message();
     EXPECT_EQ(waitForEnd(*stub, mltSmall.id, 60s).state(), pb::JOB_STATE_DONE);

@@ -12,6 +12,7 @@
 #include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
 #include "mcmc/startup_parameters.h"
+#include "mcmc/startup_rule.h"
 #include "path/path.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -135,7 +136,8 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
     MltStart out;
-    out.bootstrap = runBootstrap(ctx, sampler, settings.bootstrapSamples,
+    out.bootstrap = runBootstrap(ctx, sampler,
+                                 StartupRule::bootstrapSamples(settings.bootstrapSamples, rs),
                                  startupDeadline(rs, start, settings.startupShare));
     out.bootstrapSeconds = secondsSince(start);
     ctx.throwIfCancelled();
@@ -365,6 +367,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     st.values["b"] = plan.groups[0].b;
     st.values["bootstrap_samples"] = double(bootstrap.samples);
     st.values["bootstrap_seconds"] = bootstrapSeconds;
+    st.values["bootstrap_rays"] = double(bootstrap.rays);
     const double directRays = direct.rays();
     st.values["path_types"] = double(runner.film(0).typeCount() + directTypes);
     addChainStats(st, runner, plan, secondsSince(start), startupSeconds,

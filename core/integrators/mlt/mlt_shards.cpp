@@ -92,6 +92,7 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     addMergedChainStats(st, merged, plan.chains, pixels);
     st.values["b"] = b;
     st.values["bootstrap_samples"] = double(plan.chains.bootstrapSamples);
+    st.values["bootstrap_rays"] = double(plan.bootstrapRays);
     const double chainRays = st.values["rays"];
     st.values["rays"] += double(plan.bootstrapRays);
     if (!plan.directApart) {

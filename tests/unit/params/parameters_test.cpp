@@ -241,7 +241,7 @@ TEST(Parameters, TheAlgorithmsSettingsResolveFromTheJobWithTheirDefaults) {
     EXPECT_EQ(std::get<int64_t>(*complete.parameters.find("k")), 4);
     EXPECT_EQ(std::get<double>(*complete.parameters.find("radius")), 7.5);
     EXPECT_EQ(std::get<int64_t>(*complete.parameters.find("y")), 128);
-    EXPECT_EQ(std::get<uint64_t>(*complete.parameters.find("bootstrap")), 100000u);
+    EXPECT_EQ(std::get<uint64_t>(*complete.parameters.find("bootstrap")), 0u) << "by the rule";
     EXPECT_EQ(std::get<std::string>(*complete.parameters.find("prepass")), "bdpt");
 }
 
