@@ -11,8 +11,8 @@
 #include "integrators/layer_survey.h"
 #include "integrators/mlt/mlt_settings.h"
 #include "integrators/partitioned/partitioned_settings.h"
-#include "mcmc/startup_rule.h"
 #include "mcmc/bootstrap.h"
+#include "mcmc/startup_rule.h"
 
 namespace partita::server {
 

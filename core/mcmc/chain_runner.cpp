@@ -98,7 +98,7 @@ void ChainRunner::burnIn(double seconds) {
     using Clock = std::chrono::steady_clock;
     const auto deadline =
         Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                           std::chrono::duration<double>(seconds * StartupRule::kStartupShare));
+                           std::chrono::duration<double>(seconds * StartupRule::kBurnInShare));
     ctx_.pool.parallelFor(chains_.size(), [&](size_t k) {
         Chain& c = *chains_[k];
         auto none = [](Vec2f, PathType, Rgb) {};

@@ -89,7 +89,7 @@ class ChainRunner {
     float groupScale(uint32_t group) const;
     struct Chain;
     /// Every chain's burn-in steps, unsplatted; with seconds > 0 (a time budget) only until
-    /// StartupRule::kStartupShare of them have passed.
+    /// StartupRule::kBurnInShare of them have passed.
     void burnIn(double seconds);
     void runRound(uint64_t roundLength, ProgressReporter& progress);
     void addSplats();

@@ -18,10 +18,11 @@ struct PartitionPipelineSettings {
     /// seeds with pt), and partitioned's RMSE at 32 mpp went from 0.99-1.33x mlt's to
     /// 0.84-0.98x on every shipped scene (docs/partitioned-study.md).
     std::string prepass = "bdpt";
-    uint64_t bootstrapSamples = 0;  // the pre-pass's, 0: by the rule (mcmc/startup_rule.h), as mlt's
+    uint64_t bootstrapSamples =
+        0;                      // the pre-pass's, 0: by the rule (mcmc/startup_rule.h), as mlt's
     double startupShare = 0.1;  // with a time budget, the pre-pass's share at most (as mlt's)
     uint64_t burnIn = 1024;  // per chain, before its first splat (the paper's), at most the rule's
-    int chains = 256;           // over all partitions, in proportion to P(i)
+    int chains = 256;        // over all partitions, in proportion to P(i)
     uint64_t minMutationsPerChain = 32;
     uint64_t roundMutations = 1024;
     uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
@@ -44,6 +45,12 @@ void addPipelineParameters(SettingsTable<S>& t) {
           &PartitionPipelineSettings::bootstrapSamples);
     t.add(chainsParameter(), &PartitionPipelineSettings::chains);
     t.add(startupShareParameter(), &PartitionPipelineSettings::startupShare);
+    t.add(ParameterSpec("burn_in",
+                        "burn-in steps of each chain before its first splat (at most a tenth of "
+                        "the chain's mutations; with a time budget, of the chains' time)")
+              .withUnit("steps")
+              .within(0, 1 << 20),
+          &PartitionPipelineSettings::burnIn);
 }
 
 }  // namespace partita

@@ -88,7 +88,7 @@ TEST(ServiceMlt, JobHasBootstrapAndRenderPhasesAcceptanceAPreviewLayersAndStats)
     rule.budgetKind = BudgetKind::MutationsPerPixel;
     rule.budget = kMpp;
     const uint64_t samples = StartupRule::bootstrapSamples(0, rule);
-    EXPECT_EQ(samples, 7865u) << "a tenth of 393216 mutations, a sample costing five";
+    EXPECT_EQ(samples, 78644u) << "393216 mutations, a sample costing five";
     EXPECT_EQ(bootstrap.back().done(), samples) << "mlt's default bootstrap";
     EXPECT_EQ(bootstrap.back().total(), samples);
     ASSERT_FALSE(render.empty());

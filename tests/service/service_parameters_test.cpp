@@ -34,6 +34,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"bootstrap", "2000"},
         {"chains", "8"},
         {"startup_share", "0.5"},
+        {"burn_in", "16"},
         {"direct", "chains"},
         {"direct_spp", "4"},
         {"y", "16"},

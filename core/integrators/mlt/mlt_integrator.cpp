@@ -136,9 +136,9 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
 
     BootstrapSampler sampler(ctx.scene, ctx.camera, rs.maxDepth, rs.seed);
     MltStart out;
-    out.bootstrap = runBootstrap(ctx, sampler,
-                                 StartupRule::bootstrapSamples(settings.bootstrapSamples, rs),
-                                 startupDeadline(rs, start, settings.startupShare));
+    out.bootstrap =
+        runBootstrap(ctx, sampler, StartupRule::bootstrapSamples(settings.bootstrapSamples, rs),
+                     startupDeadline(rs, start, settings.startupShare));
     out.bootstrapSeconds = secondsSince(start);
     ctx.throwIfCancelled();
 

@@ -12,7 +12,7 @@ namespace partita {
 
 struct MltSettings {
     /// BDPT samples of the start-up (b and the initial paths); 0: by the start-up rule
-    /// (mcmc/startup_rule.h: ~10% of a mutation budget's work within [4096, 1e5], 1e5 for a
+    /// (mcmc/startup_rule.h: a mutation budget's mutations / 5 within [4096, 1e5], 1e5 for a
     /// time budget; Veach and Mitsuba use ~1e5). Parameter "bootstrap".
     uint64_t bootstrapSamples = 0;
     /// With a time budget the bootstrap stops after this share of it (parameter

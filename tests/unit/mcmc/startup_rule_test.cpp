@@ -27,15 +27,14 @@ RenderScene cornell() {
 TEST(StartupRule, BootstrapSamplesFollowThePixelsAndTheBudget) {
     using R = StartupRule;
     const auto mpp = BudgetKind::MutationsPerPixel;
-    // A tenth of the mutations' time, a sample costing kSampleCost mutations.
-    const RenderSettings mid = budget(mpp, 256, 64, 48);  // 786432 mutations
-    EXPECT_EQ(R::bootstrapSamples(0, mid),
-              uint64_t(std::ceil(786432 * R::kStartupShare / R::kSampleCost)));
+    // At most the chains' time, a sample costing kSampleCost mutations.
+    const RenderSettings mid = budget(mpp, 64, 64, 48);  // 196608 mutations
+    EXPECT_EQ(R::bootstrapSamples(0, mid), uint64_t(std::ceil(196608 / R::kSampleCost)));
     EXPECT_GT(R::bootstrapSamples(0, mid), R::kMinSamples);
     EXPECT_LT(R::bootstrapSamples(0, mid), R::kMaxSamples);
     // More pixels or more mutations per pixel: more samples, within the bounds.
-    EXPECT_GT(R::bootstrapSamples(0, budget(mpp, 512, 64, 48)), R::bootstrapSamples(0, mid));
-    EXPECT_GT(R::bootstrapSamples(0, budget(mpp, 256, 96, 48)), R::bootstrapSamples(0, mid));
+    EXPECT_GT(R::bootstrapSamples(0, budget(mpp, 128, 64, 48)), R::bootstrapSamples(0, mid));
+    EXPECT_GT(R::bootstrapSamples(0, budget(mpp, 64, 96, 48)), R::bootstrapSamples(0, mid));
     EXPECT_EQ(R::bootstrapSamples(0, budget(mpp, 1, 16, 12)), R::kMinSamples);
     EXPECT_EQ(R::bootstrapSamples(0, budget(mpp, 4096, 1920, 1080)), R::kMaxSamples);
     // A time budget: the most, cut by startup_share of the time while it runs.
@@ -56,7 +55,7 @@ TEST(StartupRule, BurnInIsAtMostItsShareOfAChainsMutations) {
 
 TEST(StartupRule, MltAndPartitionedRunWhatTheRuleGives) {
     RenderScene scene = cornell();
-    RenderSettings s = budget(BudgetKind::MutationsPerPixel, 256, 64, 48);  // 786432 mutations
+    RenderSettings s = budget(BudgetKind::MutationsPerPixel, 128, 32, 24);  // 98304 mutations
     const double expected = double(StartupRule::bootstrapSamples(0, s));
     ASSERT_GT(expected, double(StartupRule::kMinSamples)) << "a budget inside the bounds";
     RenderResult mlt = test::renderWith(scene, "mlt", s);
@@ -66,12 +65,11 @@ TEST(StartupRule, MltAndPartitionedRunWhatTheRuleGives) {
 
     RenderResult partitioned = test::renderWith(scene, "partitioned", s);
     EXPECT_EQ(partitioned.stats.values["prepass_samples"], expected);
-    // 256 chains of ~3072 mutations: a burn-in of a tenth of each chain's, not 1024 steps.
-    const double perChain = partitioned.stats.values["mutations"] /
-                            partitioned.stats.values["chains"];
+    // 256 chains of ~384 mutations: a burn-in of a tenth of each chain's, not 1024 steps.
+    const double perChain =
+        partitioned.stats.values["mutations"] / partitioned.stats.values["chains"];
     EXPECT_GT(partitioned.stats.values["burn_in"], 0);
-    EXPECT_LE(partitioned.stats.values["burn_in"],
-              std::ceil(perChain * StartupRule::kStartupShare));
+    EXPECT_LE(partitioned.stats.values["burn_in"], std::ceil(perChain * StartupRule::kBurnInShare));
 }
 
 TEST(StartupRule, ATimeBudgetsBurnInStopsAtItsShareOfTheTime) {
