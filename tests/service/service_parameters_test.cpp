@@ -36,6 +36,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"startup_share", "0.5"},
         {"direct", "chains"},
         {"direct_spp", "4"},
+        {"large_step_rate", "0.25"},
         {"y", "16"},
         {"radius", "10"},
         {"epsilon", "0.5"},
