@@ -41,7 +41,9 @@ bool IndependenceMutation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y,
 bool IndependenceMutation::sample(Rng& rng, MarkovPath& y, uint64_t& rays) const {
     if (vertexCounts_.empty()) return false;
     int n = vertexCounts_[rng.nextBounded(uint32_t(vertexCounts_.size()))];
+    float uCameraOnly = rng.nextFloat();
     int t = 1 + int(rng.nextBounded(uint32_t(n)));
+    if (double(uCameraOnly) < kCameraOnlyShare) t = n;
     int s = n - t;
     WalkSettings walk;
     walk.rouletteStartDepth = INT_MAX;
@@ -77,9 +79,13 @@ double IndependenceMutation::density(const std::vector<PathVertex>& p) const {
         double pt = 1;
         for (int i = 1; i < t; ++i) pt *= d[size_t(i)].fromEye * (i == 1 ? cameraScale : 1.0f);
         for (int i = t; i < n; ++i) pt *= d[size_t(i)].fromLight;
-        sum += pt;
+        sum += strategyProbability(t, n) * pt;
     }
-    return sum / (double(n) * double(vertexCounts_.size()));
+    return sum / double(vertexCounts_.size());
+}
+
+double IndependenceMutation::strategyProbability(int t, int n) {
+    return (1 - kCameraOnlyShare) / double(n) + (t == n ? kCameraOnlyShare : 0.0);
 }
 
 bool IndependenceMutation::canSample(const std::vector<PathVertex>& p, int t) const {

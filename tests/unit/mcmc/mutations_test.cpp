@@ -394,7 +394,7 @@ TEST(Mutations, IndependenceMutationWithoutItsDensityRatioShowsAsBias) {
         [](const SceneUnderTest& s) {
             return std::make_unique<IndependenceWithoutDensityRatio>(s.scene, s.camera, kMaxDepth);
         },
-        10000, /*share=*/1.0);
+        1000, /*share=*/1.0);
     EXPECT_GT(c.worst, 1.0) << "an independence mutation without p(x) / p(y) went unnoticed: "
                             << c.where;
 }
