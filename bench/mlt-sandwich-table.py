@@ -27,21 +27,31 @@ def sandwiched(t):
     inner = t[1:-1]
     return "D" in inner and "DD" not in inner and not inner.startswith("D") and not inner.endswith("D")
 
-def sq_error(render, ref, layer, rlayers, flayers, pixels):
-    """Sum over pixels and channels of the squared difference of one layer."""
-    ch = ",".join(f"{layer}.{c}" for c in "RGB")
-    if layer in rlayers and layer in flayers:
-        args = ["oiiotool", render, "--ch", ch, ref, "--ch", ch, "--diff"]
-    else:
-        args = ["oiiotool", render if layer in rlayers else ref, "--ch", ch, "--printstats"]
-    out = subprocess.run(args, capture_output=True, text=True).stdout
-    if "--diff" in args:
-        m = re.search(r"RMS error = ([0-9.eE+-]+)", out)
-        return float(m.group(1)) ** 2 * pixels * 3
-    # RMS of the layer itself: the error against 0
-    m = re.search(r"Stats RMS: ([0-9.eE+ -]+)", out)
-    rms = [float(v) for v in m.group(1).split()]
-    return sum(v * v for v in rms) * pixels
+def stats_sq_sum(args, pixels):
+    """Sum over pixels and channels of the squares of an oiiotool --printstats image:
+    (avg^2 + std^2) per channel times the pixel count."""
+    out = subprocess.run(args + ["--printstats"], capture_output=True, text=True).stdout
+    avg = [float(v) for v in re.search(r"Stats Avg: ([0-9.eE+ -]+)", out).group(1).split()]
+    std = [float(v) for v in re.search(r"Stats StdDev: ([0-9.eE+ -]+)", out).group(1).split()]
+    return sum(a * a + d * d for a, d in zip(avg, std)) * pixels
+
+def channels(layers):
+    return ",".join(f"{l}.{c}" for l in layers for c in "RGB")
+
+def sq_error(render, ref, types, rlayers, flayers, pixels):
+    """Sum of the squared differences over the given layers; a layer one image lacks is 0 there."""
+    both = [t for t in types if t in rlayers and t in flayers]
+    only_render = [t for t in types if t in rlayers and t not in flayers]
+    only_ref = [t for t in types if t in flayers and t not in rlayers]
+    total = 0.0
+    if both:
+        total += stats_sq_sum(["oiiotool", render, "--ch", channels(both), ref, "--ch",
+                               channels(both), "--sub"], pixels)
+    if only_render:
+        total += stats_sq_sum(["oiiotool", render, "--ch", channels(only_render)], pixels)
+    if only_ref:
+        total += stats_sq_sum(["oiiotool", ref, "--ch", channels(only_ref)], pixels)
+    return total
 
 def main(outdir, refdir):
     print("| scene | seed | mpp | rate | combined RMSE | sandwiched RMSE | stuck / type-bound | acceptance independence | s |")
@@ -55,7 +65,7 @@ def main(outdir, refdir):
         out = subprocess.run(["oiiotool", f, "--ch", "R,G,B", ref, "--ch", "R,G,B", "--diff"], capture_output=True, text=True).stdout
         comb = float(re.search(r"RMS error = ([0-9.eE+-]+)", out).group(1))
         types = sorted(t for t in (rl | fl) if t != "other" and sandwiched(t))
-        se = sum(sq_error(f, ref, t, rl, fl, pixels) for t in types)
+        se = sq_error(f, ref, types, rl, fl, pixels)
         rmse_s = (se / (pixels * 3)) ** 0.5
         acc = a.get("stat:acceptance_independence", "-")
         print(f"| {scene} | {seed} | {mpp} | {rate} | {comb:.4f} | {rmse_s:.4f} | {a.get('stat:stuck_chains','?')} / {a.get('stat:type_bound_chains','?')} | {acc} | {float(a.get('stat:seconds', 'nan')):.1f} |")

@@ -317,6 +317,7 @@ TEST(Mlt, StuckChainsAreCountedForEveryMcmcAlgorithm) {
     causticOnly.mutations.bidirectionalWeight = 0;
     causticOnly.mutations.lensWeight = 0;
     causticOnly.mutations.multiChainWeight = 0;
+    causticOnly.mutations.largeStepRate = 0;  // the independence mutation applies to every path
     RenderSettings st = tinySettings(8, 1);
     st.budgetKind = BudgetKind::MutationsPerPixel;
     Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);
