@@ -1,5 +1,8 @@
 #include "mcmc/markov_chain.h"
 
+#include <algorithm>
+#include <cstdint>
+
 namespace partita {
 
 MarkovChain::MarkovChain(std::vector<WeightedMutation> mutations, PathRestriction restriction,
@@ -13,32 +16,64 @@ MarkovChain::MarkovChain(std::vector<WeightedMutation> mutations, PathRestrictio
 double MarkovChain::applicableWeight(const MarkovPath& p) const {
     double total = 0;
     for (const WeightedMutation& m : mutations_)
-        if (m.weight > 0 && m.mutation->appliesTo(p)) total += m.weight;
+        if (!m.fixedRate && m.weight > 0 && m.mutation->appliesTo(p)) total += m.weight;
     return total;
 }
 
-bool MarkovChain::proposeWithChoice(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
-                                    size_t& chosen) {
+double MarkovChain::applicableRate(const MarkovPath& p) const {
+    double total = 0;
+    for (const WeightedMutation& m : mutations_)
+        if (m.fixedRate && m.weight > 0 && m.mutation->appliesTo(p)) total += m.weight;
+    return std::min(total, 1.0);
+}
+
+size_t MarkovChain::choose(const MarkovPath& x, double u) const {
+    // The fixed-rate mutations first, each covering its rate of [0, 1).
+    double rateX = applicableRate(x), running = 0;
+    if (u < rateX) {
+        for (size_t i = 0; i < mutations_.size(); ++i) {
+            const WeightedMutation& m = mutations_[i];
+            if (!m.fixedRate || !(m.weight > 0) || !m.mutation->appliesTo(x)) continue;
+            running += m.weight;
+            if (u < running) return i;
+        }
+    }
+    // The rest of [0, 1), rescaled (exactly u when no rate applies), to the weighted ones.
     double totalX = applicableWeight(x);
-    float u = rng.nextFloat();
-    if (!(totalX > 0)) return false;
-    // The mutation whose share of the applicable weight covers u.
-    double target = double(u) * totalX, running = 0;
+    if (!(totalX > 0) || !(rateX < 1)) return SIZE_MAX;
+    double target = (rateX > 0 ? (u - rateX) / (1 - rateX) : u) * totalX;
+    size_t chosen = SIZE_MAX;
+    running = 0;
     for (size_t i = 0; i < mutations_.size(); ++i) {
         const WeightedMutation& m = mutations_[i];
-        if (!(m.weight > 0) || !m.mutation->appliesTo(x)) continue;
+        if (m.fixedRate || !(m.weight > 0) || !m.mutation->appliesTo(x)) continue;
         chosen = i;
         running += m.weight;
         if (target < running) break;
     }
-    Mutation& mutation = *mutations_[chosen].mutation;
+    return chosen;
+}
+
+bool MarkovChain::proposeWithChoice(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
+                                    size_t& chosen) {
+    float u = rng.nextFloat();
+    chosen = choose(x, double(u));
+    if (chosen == SIZE_MAX) return false;
+    const WeightedMutation& m = mutations_[chosen];
     double densities = 0;
-    if (!mutation.propose(x, rng, y, densities, rays_)) return false;
+    if (!m.mutation->propose(x, rng, y, densities, rays_)) return false;
     if (restriction_ && !restriction_(y.type)) return false;
-    // P(choice | y) / P(choice | x): zero when the mutation does not apply to y (no way back).
-    if (!mutation.appliesTo(y)) return false;
-    double totalY = applicableWeight(y);
+    // P(choice | y) / P(choice | x) (the header's): zero when the mutation does not apply to y
+    // (no way back); 1 for a fixed rate.
+    if (!m.mutation->appliesTo(y)) return false;
+    if (m.fixedRate) {
+        ratio = densities;
+        return true;
+    }
+    double rateX = applicableRate(x), rateY = applicableRate(y);
+    double totalX = applicableWeight(x), totalY = applicableWeight(y);
     ratio = densities * (totalX / totalY);
+    if (rateX > 0 || rateY > 0) ratio *= (1 - rateY) / (1 - rateX);
     return true;
 }
 

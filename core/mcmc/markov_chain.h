@@ -1,10 +1,15 @@
 // One Markov chain over path space (paper Eq. 3 with Veach's mutations): the per-chain stepping
 // that mlt, partitioned and guided share. Each step picks one of the mutations that apply to the
-// current path (with probability proportional to its weight among them), proposes, and accepts
-// with metropolis.h's step; the probability of the choice enters the acceptance both ways, as
-// it depends on the path. A restriction (a partition, paper Sec. 4) rejects every proposal whose
-// type it excludes. Expected-value splats: each step hands both states to the caller with their
-// weights, as f(x) / f*(x) times the weight, to be scaled by b / N when the image is resolved.
+// current path, proposes, and accepts with metropolis.h's step; the probability of the choice
+// enters the acceptance both ways, as it depends on the path. A mutation with a fixed rate (the
+// independence mutation's large-step rate) is chosen with that probability whenever it applies;
+// the others share the rest in proportion to their weights among those that apply:
+//     P(m | x) = rate_m                                 (m fixed-rate, applies to x)
+//     P(m | x) = (1 - F(x)) w_m / W(x)                  (otherwise)
+// with F(x) the sum of the rates and W(x) that of the weights of the mutations that apply to x. A
+// restriction (a partition, paper Sec. 4) rejects every proposal whose type it excludes.
+// Expected-value splats: each step hands both states to the caller with their weights, as f(x) /
+// f*(x) times the weight, to be scaled by b / N when the image is resolved.
 //
 // A chain's result depends only on its start, its RNG and its mutation count: chains can run in
 // any order, on any thread, or in another process.
@@ -23,7 +28,8 @@ namespace partita {
 
 struct WeightedMutation {
     Mutation* mutation;
-    double weight;
+    double weight;  // a share among the weighted mutations, or the rate when fixedRate
+    bool fixedRate = false;
 };
 
 /// Which paths a chain may visit; an empty function allows every path.
@@ -76,8 +82,12 @@ class MarkovChain {
     /// P(choice | y) / P(choice | x) and the restriction. `chosen` is set whenever one applied.
     bool proposeWithChoice(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
                            size_t& chosen);
-    /// The total weight of the mutations that apply to p.
+    /// The total weight of the weighted mutations that apply to p: W(p) of the header.
     double applicableWeight(const MarkovPath& p) const;
+    /// The total rate of the fixed-rate mutations that apply to p: F(p) of the header.
+    double applicableRate(const MarkovPath& p) const;
+    /// The index of the mutation a uniform u chooses at x (SIZE_MAX: none).
+    size_t choose(const MarkovPath& x, double u) const;
 
     std::vector<WeightedMutation> mutations_;
     PathRestriction restriction_;

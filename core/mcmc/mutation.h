@@ -6,7 +6,7 @@
 // mutations that apply and puts the probability of that choice into the ratio both ways.
 //
 // One file per mutation: bidirectional_mutation, lens_perturbation, caustic_perturbation,
-// multi_chain_perturbation, guide/guided_perturbation (paper Sec. 5).
+// multi_chain_perturbation, independence_mutation, guide/guided_perturbation (paper Sec. 5).
 #pragma once
 
 #include <cstdint>

@@ -4,6 +4,7 @@
 
 #include "camera.h"
 #include "mcmc/caustic_perturbation.h"
+#include "mcmc/independence_mutation.h"
 #include "mcmc/lens_perturbation.h"
 #include "mcmc/multi_chain_perturbation.h"
 
@@ -25,6 +26,11 @@ MutationSet makeVeachMutations(const RenderScene& scene, const Camera& camera, i
     set.add(std::make_unique<CausticPerturbation>(scene, camera, s.causticAngles), s.causticWeight);
     set.add(std::make_unique<MultiChainPerturbation>(scene, camera, pixels, s.multiChainAngles),
             s.multiChainWeight);
+    // Only when used: with a rate of 0 the chains are those from before it existed, bit for bit.
+    if (s.largeStepRate > 0)
+        set.add(std::make_unique<IndependenceMutation>(scene, camera, maxDepth,
+                                                       s.independenceVertexCounts),
+                s.largeStepRate, /*fixedRate=*/true);
     return set;
 }
 

@@ -1,5 +1,5 @@
-// Veach's four mutations with their settings and the probabilities of choosing them: the
-// mutation set of `mlt`, and of `partitioned` (which reuses it unchanged).
+// Veach's four mutations and the independence (large-step) mutation, with their settings and the
+// probabilities of choosing them: the mutation set of `mlt`, `partitioned` and `guided`.
 #pragma once
 
 #include <memory>
@@ -23,14 +23,22 @@ struct VeachMutationSettings {
     float lensSmallestPixels = 0.1f, lensLargestFraction = 0.1f;
     /// Caustic and multi-chain deflections, radians (Veach: 1e-4 .. 0.1).
     PerturbationRange causticAngles{1e-4f, 0.1f}, multiChainAngles{1e-4f, 0.1f};
+    /// The independence mutation's rate: the probability of a fresh path at every step, the
+    /// four others sharing the rest by their weights (markov_chain.h). Parameter
+    /// "large_step_rate"; the default measured in docs/mlt-study.md ("Suspicious" 2).
+    double largeStepRate = kDefaultLargeStepRate;
+    /// The path lengths (vertices) it proposes; empty: every length the maximum depth allows.
+    /// A chain's restriction may leave out some (mlt's indirect chains: n >= 4).
+    std::vector<int> independenceVertexCounts;
+    static constexpr double kDefaultLargeStepRate = 0.1;
 };
 
 /// Mutations owned together, with their weights, for one chain.
 struct MutationSet {
     std::vector<std::unique_ptr<Mutation>> owned;
     std::vector<WeightedMutation> weighted;
-    void add(std::unique_ptr<Mutation> m, double weight) {
-        weighted.push_back({m.get(), weight});
+    void add(std::unique_ptr<Mutation> m, double weight, bool fixedRate = false) {
+        weighted.push_back({m.get(), weight, fixedRate});
         owned.push_back(std::move(m));
     }
 };

@@ -297,7 +297,12 @@ PartitionedStart deserializeStart(std::span<const uint8_t> bytes) {
 
 VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
                                                 const Partition& partition) {
-    if (!partition.complement) base.bidirectional.additionWeights = {1.0, 0.0};
+    if (!partition.complement) {
+        base.bidirectional.additionWeights = {1.0, 0.0};
+        // The independence mutation proposes only the lengths of the partition's types.
+        for (const PathType& t : partition.types)
+            base.independenceVertexCounts.push_back(t.scatteringVertices() + 2);
+    }
     return base;
 }
 

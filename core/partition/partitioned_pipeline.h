@@ -44,7 +44,8 @@ class PartitionMutations {
 
 /// Veach's mutation settings for the chains of `partition`: those of a one-type partition try
 /// only bidirectional mutations that keep the path's length (another length is another type,
-/// always rejected); the complement's keep `base`.
+/// always rejected), and independence proposals of that length only; the complement's keep
+/// `base`.
 VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
                                                 const Partition& partition);
 

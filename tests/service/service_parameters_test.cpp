@@ -37,6 +37,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"burn_in", "16"},
         {"direct", "chains"},
         {"direct_spp", "4"},
+        {"large_step_rate", "0.25"},
         {"y", "16"},
         {"radius", "10"},
         {"epsilon", "0.5"},

@@ -102,7 +102,7 @@ TEST(ProgressReporter, MltReportsBootstrapThenMutationsWithAcceptance) {
     EXPECT_EQ(last.values.at("mutations"), 16 * 12 * 4);
     // Every mutation proposed has its running acceptance, the final statistics' value.
     size_t acceptances = 0;
-    for (const char* name : {"bidirectional", "lens", "caustic", "multi_chain"}) {
+    for (const char* name : {"bidirectional", "lens", "caustic", "multi_chain", "independence"}) {
         double proposed = result.stats.values.at(std::string("proposed_") + name);
         auto it = last.values.find(std::string("acceptance_") + name);
         ASSERT_EQ(it != last.values.end(), proposed > 0) << name;
@@ -110,7 +110,8 @@ TEST(ProgressReporter, MltReportsBootstrapThenMutationsWithAcceptance) {
         ++acceptances;
         EXPECT_EQ(it->second, result.stats.values.at(std::string("acceptance_") + name)) << name;
     }
-    EXPECT_GE(acceptances, 2u) << "cornell: at least the bidirectional and lens mutations";
+    EXPECT_GE(acceptances, 3u)
+        << "cornell: at least the bidirectional, lens and independence mutations";
     EXPECT_EQ(last.values.size(), acceptances + 1);
 }
 

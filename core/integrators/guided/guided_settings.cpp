@@ -1,4 +1,5 @@
 #include "integrators/guided/guided_settings.h"
+#include "mcmc/mutation_parameters.h"
 
 namespace partita {
 
@@ -6,6 +7,7 @@ const SettingsTable<GuidedSettings>& guidedParameters() {
     static const SettingsTable<GuidedSettings> table = [] {
         SettingsTable<GuidedSettings> t;
         addPipelineParameters(t);
+        addMutationParameters(t);
         t.add(ParameterSpec("y", "|Y'|: candidate pixels of each guided step (paper Sec. 5)")
                   .withUnit("pixels")
                   .within(1, 4096),

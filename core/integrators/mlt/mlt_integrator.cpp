@@ -156,7 +156,13 @@ ChainRunner::FilmLayout mltFilmLayout(bool directApart) {
 }
 
 MutationSet makeMltMutations(const RenderContext& ctx, const MltSettings& settings) {
-    return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, settings.mutations);
+    VeachMutationSettings m = settings.mutations;
+    // With the direct light apart the chains hold no path of 2 or 3 vertices (every one is
+    // L S? E or L D E): the independence mutation does not propose them.
+    if (settings.direct != "chains" && m.independenceVertexCounts.empty())
+        for (int n = 4; n <= ctx.settings.maxDepth + 2; ++n)
+            m.independenceVertexCounts.push_back(n);
+    return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
 }
 
 LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings& rs,

@@ -1,5 +1,6 @@
 #include "integrators/mlt/mlt_settings.h"
 
+#include "mcmc/mutation_parameters.h"
 #include "mcmc/startup_parameters.h"
 
 namespace partita {
@@ -22,6 +23,7 @@ const SettingsTable<MltSettings>& mltParameters() {
                   .withUnit("samples")
                   .within(0, 1 << 20),
               &MltSettings::directSpp);
+        addMutationParameters(t);
         return t;
     }();
     return table;

@@ -1,4 +1,5 @@
 #include "integrators/partitioned/partitioned_settings.h"
+#include "mcmc/mutation_parameters.h"
 
 namespace partita {
 
@@ -6,6 +7,7 @@ const SettingsTable<PartitionedSettings>& partitionedParameters() {
     static const SettingsTable<PartitionedSettings> table = [] {
         SettingsTable<PartitionedSettings> t;
         addPipelineParameters(t);
+        addMutationParameters(t);
         return t;
     }();
     return table;

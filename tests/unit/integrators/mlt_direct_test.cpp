@@ -333,6 +333,7 @@ TEST(MltDirect, ChainsModeIsTheImageOfTheCodePathBeforeTheSplit) {
         RenderContext ctx{scene, camera, st, pool, cancel, observer};
         MltSettings settings;
         settings.bootstrapSamples = 20000;
+        settings.direct = "chains";  // the independence mutation proposes every length
         BootstrapSampler sampler(scene, camera, st.maxDepth, st.seed);
         BootstrapResult bootstrap = runBootstrap(ctx, sampler, settings.bootstrapSamples);
         uint64_t mutations = uint64_t(st.budget * st.width * st.height);

@@ -11,10 +11,10 @@
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
-#include "independent_proposal.h"
 #include "integrators/mlt/mlt_integrator.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_plan.h"
+#include "mcmc/independence_mutation.h"
 #include "params/job_parameters.h"
 #include "render_helpers.h"
 #include "renderer.h"
@@ -102,14 +102,14 @@ TEST(Mlt, ConvergesToBdptPerTypeOnCornellGlass) {
 TEST(Mlt, ConvergesToBdptPerTypeOnPool) { expectMltMatchesBdpt("pool", 64, 64, 10); }
 
 /// b from the bootstrap, with either estimator, against the integral of f* estimated by
-/// importance sampling with the exact density of independent_proposal.h: independent
+/// importance sampling with the exact density of mcmc/independence_mutation.h: independent
 /// estimators of the same number.
 void expectBootstrapEstimatesTheIntegralOfFStar(StartupEstimator estimator) {
     RenderScene scene = loadScene("cornell-glass");
     Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
     const int seeds = 8, bootstrapSamples = 20000, isSamples = 40000;
     std::vector<double> bootstrap, importance;
-    test::IndependentBdptProposal independent(scene, camera, 8);
+    IndependenceMutation independent(scene, camera, 8);
     for (int seed = 0; seed < seeds; ++seed) {
         BootstrapSampler sampler(scene, camera, 8, 30 + uint64_t(seed), estimator);
         std::vector<BootstrapCandidate> candidates;
@@ -318,6 +318,7 @@ TEST(Mlt, StuckChainsAreCountedForEveryMcmcAlgorithm) {
     causticOnly.mutations.bidirectionalWeight = 0;
     causticOnly.mutations.lensWeight = 0;
     causticOnly.mutations.multiChainWeight = 0;
+    causticOnly.mutations.largeStepRate = 0;  // the independence mutation applies to every path
     RenderSettings st = tinySettings(8, 1);
     st.budgetKind = BudgetKind::MutationsPerPixel;
     Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);

@@ -10,8 +10,8 @@
 #include "camera.h"
 #include "film.h"
 #include "gltf/gltf_loader.h"
-#include "independent_proposal.h"
 #include "integrators/partitioned/partitioned_integrator.h"
+#include "mcmc/independence_mutation.h"
 #include "params/job_parameters.h"
 #include "partition/partition.h"
 #include "partition/prepass.h"
@@ -55,14 +55,14 @@ TEST(Partitioned, PartitionsCoverPathSpaceExactlyOnce) {
 }
 
 /// b_i over independent pre-passes against importance sampling with the exact density of
-/// independent_proposal.h, per partition (the partitions fixed by one pre-pass).
+/// mcmc/independence_mutation.h, per partition (the partitions fixed by one pre-pass).
 TEST(Partitioned, BiAgreesWithAnIndependentEstimatePerPartition) {
     RenderScene scene = loadScene("cornell-glass");
     Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
     std::vector<Partition> fixed = partitionsOf(scene, 5, 3, 20000);
     const int seeds = 8;
     std::vector<std::vector<double>> prepassB(fixed.size()), importance(fixed.size());
-    test::IndependentBdptProposal independent(scene, camera, kMaxDepth);
+    IndependenceMutation independent(scene, camera, kMaxDepth);
     for (int seed = 0; seed < seeds; ++seed) {
         // b_i of the fixed partitions from a fresh pre-pass: half B's sums over their types.
         RenderSettings st = tinySettings(1, 40 + uint64_t(seed), BudgetKind::MutationsPerPixel);

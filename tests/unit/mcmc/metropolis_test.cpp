@@ -161,6 +161,48 @@ TEST(Metropolis, TransitionMatrixSatisfiesDetailedBalance) {
     EXPECT_GT(stationarityViolation(wrong, pi), 0.01);
 }
 
+// The independence (large-step) mutation on the same space: y drawn from a fixed density p(y)
+// whatever x is, ratio p(x) / p(y) (mcmc/independence_mutation.h), chosen at a fixed rate and the
+// walk q otherwise (mcmc/markov_chain.h: the choice's probability is the same at x and y, so it
+// does not enter the ratio). p puts mass on the f = 0 state too, as a fresh path may carry no
+// light.
+constexpr std::array<double, kStates> kIndependentDensity = {0.05, 0.3, 0.1, 0.1, 0.2, 0.05, 0.2};
+constexpr double kLargeStepRate = 0.3;
+
+/// The exact transition matrix of the mixture; `withDensityRatio` false: p(x) / p(y) left out.
+Matrix largeStepMixture(bool withDensityRatio) {
+    Matrix walk = transitionMatrix(Ratio::Correct), p{};
+    for (int x = 0; x < kStates; ++x) {
+        double moved = 0;
+        for (int y = 0; y < kStates; ++y) {
+            if (y == x) continue;
+            double ratio = withDensityRatio ? kIndependentDensity[x] / kIndependentDensity[y] : 1.0;
+            double a = acceptanceProbability(kTarget[x], kTarget[y], ratio);
+            p[x][y] =
+                kLargeStepRate * kIndependentDensity[y] * a + (1 - kLargeStepRate) * walk[x][y];
+            moved += p[x][y];
+        }
+        p[x][x] = 1 - moved;
+    }
+    return p;
+}
+
+TEST(Metropolis, IndependenceProposalAtAFixedRateSatisfiesDetailedBalance) {
+    const Distribution pi = targetDistribution();
+    const Matrix p = largeStepMixture(true);
+    for (int x = 0; x < kStates; ++x)
+        if (x != kZeroState) {
+            EXPECT_EQ(p[x][kZeroState], 0) << x << " enters the f = 0 state";
+        }
+    EXPECT_GT(p[5][0], 0) << "the independence proposal reaches what the walk cannot";
+    EXPECT_LE(detailedBalanceViolation(p, pi), 1e-12);
+    EXPECT_LE(stationarityViolation(p, pi), 1e-12);
+    // Without p(x) / p(y) the chain targets f p, not f: caught.
+    const Matrix wrong = largeStepMixture(false);
+    EXPECT_GT(detailedBalanceViolation(wrong, pi), 0.1);
+    EXPECT_GT(stationarityViolation(wrong, pi), 0.01);
+}
+
 // The chains: kChains independent chains (one Rng stream each), all started in kStartState (the
 // lowest positive f, far from where the target's mass is) and run for kChainSteps steps. Each
 // contributes its final state to `finalStates` and the splats of its last step to

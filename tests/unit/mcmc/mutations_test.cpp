@@ -1,8 +1,8 @@
 // Each of Veach's mutations on its own (mcmc/): a chain that mixes the mutation under test with
-// an exact independence proposal (independent_proposal.h) must converge to the BDPT reference,
-// per path type and image region. The independence proposal alone is ergodic and exact, so a
-// wrong T ratio in the mutation under test shows up as bias. The chains' images are compared as
-// fractions of their total (the normalising constant b is the bootstrap's business, tested with
+// an exact independence proposal (mcmc/independence_mutation.h) must converge to the BDPT
+// reference, per path type and image region. The independence proposal alone is ergodic and exact,
+// so a wrong T ratio in the mutation under test shows up as bias. The chains' images are compared
+// as fractions of their total (the normalising constant b is the bootstrap's business, tested with
 // `mlt` itself), with tolerances from the spread over independent seeds on both sides.
 #include <gtest/gtest.h>
 
@@ -17,9 +17,9 @@
 #include "guide/guided_perturbation.h"
 #include "guide/image_guide.h"
 #include "guide/offsets.h"
-#include "independent_proposal.h"
 #include "mcmc/bidirectional_mutation.h"
 #include "mcmc/caustic_perturbation.h"
+#include "mcmc/independence_mutation.h"
 #include "mcmc/lens_perturbation.h"
 #include "mcmc/markov_chain.h"
 #include "mcmc/multi_chain_perturbation.h"
@@ -104,26 +104,26 @@ std::vector<std::vector<double>> bdptShares(const SceneUnderTest& s,
     return out;
 }
 
-/// The image of `chains` chains mixing `mutation` with the independence proposal (kMutationShare to
-/// the rest), each started from an independent sample and burnt in, as unnormalised splats.
+/// The image of `chains` chains mixing `mutation` with the independence proposal (`share` to the
+/// mutation, the rest to the proposal; share 1: the mutation alone), each started from an
+/// independent sample and burnt in, as unnormalised splats.
 LayeredImage chainImage(const SceneUnderTest& s,
                         const std::function<std::unique_ptr<Mutation>()>& make, uint64_t seed,
-                        std::map<std::string, MutationStats>& stats) {
+                        std::map<std::string, MutationStats>& stats, double share) {
     const int chains = 16, burnIn = 200, steps = 3000;
     ThreadPool pool(2);
     std::vector<std::vector<std::tuple<Vec2f, PathType, Rgb>>> splats(chains);
     std::vector<std::vector<MutationStats>> chainStats(chains);
     std::vector<std::string> names;
     pool.parallelFor(chains, [&](size_t k) {
-        test::IndependentBdptProposal independent(s.scene, s.camera, kMaxDepth);
+        IndependenceMutation independent(s.scene, s.camera, kMaxDepth);
         std::unique_ptr<Mutation> mutation = make();
         Rng rng(seed, 1000 + k);
         MarkovPath start;
         uint64_t rays = 0;
         while (!independent.sample(rng, start, rays)) {
         }
-        MarkovChain chain({{mutation.get(), kMutationShare}, {&independent, 1 - kMutationShare}},
-                          {}, start, rng);
+        MarkovChain chain({{mutation.get(), share}, {&independent, 1 - share}}, {}, start, rng);
         auto none = [](Vec2f, PathType, Rgb) {};
         for (int i = 0; i < burnIn; ++i) chain.step(none);
         auto keep = [&](Vec2f r, PathType t, Rgb v) { splats[k].emplace_back(r, t, v); };
@@ -153,7 +153,8 @@ struct Comparison {
     std::string where;
 };
 
-Comparison compareWithBdpt(SceneData data, const MutationMaker& make, uint64_t minimumAccepted) {
+Comparison compareWithBdpt(SceneData data, const MutationMaker& make, uint64_t minimumAccepted,
+                           double share = kMutationShare) {
     SceneUnderTest s(std::move(data));
     // The types compared: the six brightest of a BDPT image.
     RenderSettings st;
@@ -171,7 +172,7 @@ Comparison compareWithBdpt(SceneData data, const MutationMaker& make, uint64_t m
     std::map<std::string, MutationStats> stats;
     for (int seed = 0; seed < kSeeds; ++seed)
         chains.push_back(shares(chainImage(
-                                    s, [&] { return make(s); }, 900 + uint64_t(seed), stats),
+                                    s, [&] { return make(s); }, 900 + uint64_t(seed), stats, share),
                                 types));
     size_t components = reference[0].size();
     Comparison result;
@@ -203,8 +204,8 @@ Comparison compareWithBdpt(SceneData data, const MutationMaker& make, uint64_t m
 }
 
 void expectConvergesToBdpt(const std::string& sceneName, const MutationMaker& make,
-                           uint64_t minimumAccepted) {
-    Comparison c = compareWithBdpt(shippedScene(sceneName), make, minimumAccepted);
+                           uint64_t minimumAccepted, double share = kMutationShare) {
+    Comparison c = compareWithBdpt(shippedScene(sceneName), make, minimumAccepted, share);
     EXPECT_LT(c.worst, 1.0) << sceneName << ", worst component " << c.where;
 }
 
@@ -363,17 +364,40 @@ TEST(Mutations, GuidedPerturbationWithoutTheCandidateSumsShowsAsBias) {
                             << c.where;
 }
 
-}  // namespace
-}  // namespace partita
-namespace partita {
-namespace {
-TEST(Mutations, IndependenceProposalAloneConvergesToBdptPerType) {
+/// The independence (large-step) mutation alone, mixed with nothing else (share 1): its fresh
+/// paths and its ratio p(x) / p(y) alone must give BDPT's image per type and region.
+TEST(Mutations, IndependenceMutationAloneConvergesToBdptPerType) {
     expectConvergesToBdpt(
         "cornell-glass",
         [](const SceneUnderTest& s) {
-            return std::make_unique<test::IndependentBdptProposal>(s.scene, s.camera, kMaxDepth);
+            return std::make_unique<IndependenceMutation>(s.scene, s.camera, kMaxDepth);
         },
-        10000);
+        10000, /*share=*/1.0);
 }
+
+/// The independence mutation with the ratio p(x) / p(y) left out (T ratio 1): the chain then
+/// samples f* p instead of f*, which the comparison catches.
+class IndependenceWithoutDensityRatio : public IndependenceMutation {
+  public:
+    using IndependenceMutation::IndependenceMutation;
+    bool propose(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
+                 uint64_t& rays) override {
+        bool ok = IndependenceMutation::propose(x, rng, y, ratio, rays);
+        ratio = 1;
+        return ok;
+    }
+};
+
+TEST(Mutations, IndependenceMutationWithoutItsDensityRatioShowsAsBias) {
+    Comparison c = compareWithBdpt(
+        shippedScene("cornell-glass"),
+        [](const SceneUnderTest& s) {
+            return std::make_unique<IndependenceWithoutDensityRatio>(s.scene, s.camera, kMaxDepth);
+        },
+        1000, /*share=*/1.0);
+    EXPECT_GT(c.worst, 1.0) << "an independence mutation without p(x) / p(y) went unnoticed: "
+                            << c.where;
+}
+
 }  // namespace
 }  // namespace partita
