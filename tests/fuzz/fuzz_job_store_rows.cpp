@@ -3,6 +3,7 @@
 // again (settingsFromSpec) and its memory estimated, as JobManager::recover does; the job is
 // then stored again (toStored). None of it may throw or crash, whatever the row holds.
 #include <fuzzer/FuzzedDataProvider.h>
+#include <google/protobuf/stubs/logging.h>
 #include <spdlog/spdlog.h>
 
 #include <cstddef>
@@ -37,6 +38,9 @@ ps::StoredJob rowFrom(FuzzedDataProvider& in) {
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
     spdlog::set_level(spdlog::level::off);
+    // protobuf logs every invalid UTF-8 string it parses; that is expected here, and slow.
+    google::protobuf::SetLogHandler(
+        [](google::protobuf::LogLevel, const char*, int, const std::string&) {});
     return 0;
 }
 
