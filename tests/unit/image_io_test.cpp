@@ -55,7 +55,8 @@ Image randomImage(int w, int h, uint32_t seed) {
 
 bool bytewiseEqual(const Image& a, const Image& b) {
     return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+           (a.rgb.empty() ||  // memcmp of null pointers is undefined, even for 0 bytes
+            std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0);
 }
 
 /// Decode an 8-bit image with OIIO, independently of image_io.
