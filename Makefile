@@ -43,10 +43,10 @@ SAN_RELEASE := -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBU
 # One clang build folder for the ASan tests and the fuzz targets (make fuzz): the same options.
 ASAN_CMAKE := $(SAN_RELEASE) -DPARTITA_SANITIZE=ON -DPARTITA_BUILD_FUZZ=ON
 SAN_SLOW := Converge|AgreesWith|Chi2|LocalCli|TimeBudget|WithinASecond|_NOT_BUILT
-# Service tests left out under ASan: their renders outlast the tests' gRPC deadlines 10-20x
+# Left out under ASan: the service tests whose renders outlast their gRPC deadlines 10-20x
 # slower (ServiceMlt's 2048 mutations a pixel, every algorithm of ServiceParameters, the Slurm
-# cluster's shards).
-ASAN_SERVICE_SLOW := ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
+# cluster's shards), and PeakRss (ASan's quarantine holds freed memory, by design).
+ASAN_SERVICE_SLOW := PeakRss|ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
 # ASan + UBSan: the unit and service tests.
 test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) $(ASAN_CMAKE) >/dev/null
