@@ -34,7 +34,8 @@ test: build
 # <build>/sanitizer-logs, the daemons and tools the service tests start included, and fails on
 # any report (scripts/sanitized-ctest.sh; suppressions in tests/sanitizers/).
 # Left out under both, as too slow there and not about memory or threads: the statistical
-# tests that render until an estimate converges to a reference (Converge, AgreesWith, Chi2),
+# tests that render until an estimate converges to a reference or a bias shows (Converge,
+# AgreesWith, Chi2, ShowsAsBias, EstimatesTheIntegral),
 # the tests that a time budget or a cancel ends within a wall-clock bound (TimeBudget,
 # WithinASecond: code 4-10x slower misses the bound by design), the end-to-end CLI runs of
 # partita-local (LocalCli) and the client tests (label client).
@@ -42,7 +43,7 @@ test: build
 SAN_RELEASE := -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DCMAKE_CXX_COMPILER=clang++
 # One clang build folder for the ASan tests and the fuzz targets (make fuzz): the same options.
 ASAN_CMAKE := $(SAN_RELEASE) -DPARTITA_SANITIZE=ON -DPARTITA_BUILD_FUZZ=ON
-SAN_SLOW := Converge|AgreesWith|Chi2|LocalCli|TimeBudget|WithinASecond|_NOT_BUILT
+SAN_SLOW := Converge|AgreesWith|Chi2|ShowsAsBias|EstimatesTheIntegral|LocalCli|TimeBudget|WithinASecond|_NOT_BUILT
 # Left out under ASan: the service tests whose renders outlast their gRPC deadlines 10-20x
 # slower (ServiceMlt's 2048 mutations a pixel, every algorithm of ServiceParameters, the Slurm
 # cluster's shards), and PeakRss (ASan's quarantine holds freed memory, by design).
