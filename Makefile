@@ -54,17 +54,18 @@ test-asan: deps
 	@cmake --build $(ASAN_BUILD) -j$(JOBS) --target partita-tests partita-service-tests
 	@scripts/sanitized-ctest.sh $(ASAN_BUILD) -j$(JOBS) --timeout 900 -LE client \
 	  -E '$(SAN_SLOW)|$(ASAN_SERVICE_SLOW)'
-# TSan: the tests whose work runs on several threads: the thread pool, every algorithm's chains
-# or tiles on a pool (EveryAlgorithm), sharded renders and thread counts, progress, films
-# splatted from several threads; in partitad the job manager, runners, watchers, cancels,
-# deletes and restarts. (TSan is 5-15x slower: the rest of the suite runs under ASan.)
+# TSan: the tests whose work runs on several threads in the core: the thread pool, every
+# algorithm's chains or tiles on a pool (EveryAlgorithm), sharded renders and thread counts,
+# progress, films splatted from several threads. (TSan is 5-15x slower: the rest of the suite
+# runs under ASan.) Not the service tests: Debian's gRPC, abseil and protobuf are not
+# instrumented, and their hand-offs showed as thousands of races in grpcpp's inlined callback
+# code; a suppression of libgrpc would hide every race in our callbacks as well.
 TSAN_UNIT := ^ThreadPool\.|EveryAlgorithm|ShardedRender|ThreadCount|ProgressReporter|^Film\.
-TSAN_SERVICE := ServiceCancel|ServiceConcurrency|ServiceDelete|ServiceWatch|ServiceQueue|ServiceRestart
 test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) $(SAN_RELEASE) -DPARTITA_TSAN=ON >/dev/null
-	@cmake --build $(TSAN_BUILD) -j$(JOBS) --target partita-tests partita-service-tests
+	@cmake --build $(TSAN_BUILD) -j$(JOBS) --target partita-tests
 	@scripts/sanitized-ctest.sh $(TSAN_BUILD) -j$(JOBS) --timeout 900 -LE client \
-	  -R '$(TSAN_UNIT)|$(TSAN_SERVICE)' -E '$(SAN_SLOW)'
+	  -R '$(TSAN_UNIT)' -E '$(SAN_SLOW)'
 
 # Renders through the daemon: with no --server, `partita` starts a private partitad on a free
 # loopback port with a temporary store for the duration of the command.
