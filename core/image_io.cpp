@@ -16,6 +16,8 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "exr_header.h"
+
 namespace partita {
 
 namespace fs = std::filesystem;
@@ -252,6 +254,9 @@ void writeExr(const fs::path& path, const LayeredImage& image,
 }
 
 ImageHeader readImageHeader(std::span<const uint8_t> bytes, const std::string& name) {
+    if (std::string why = exrHeaderProblem(bytes); !why.empty())
+        throw std::runtime_error("cannot read image '" + fs::path(name).filename().string() +
+                                 "': " + why);
     OIIO::Filesystem::IOMemReader proxy(const_cast<uint8_t*>(bytes.data()), bytes.size());
     auto in = OIIO::ImageInput::open(fs::path(name).filename().string(), nullptr, &proxy);
     if (!in)
@@ -270,6 +275,7 @@ LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* m
     };
     std::error_code ec;
     if (!fs::exists(path, ec)) fail("no such file");
+    if (std::string why = exrHeaderProblem(path); !why.empty()) fail(why);
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) fail(oiioError(in.get()));
     const OIIO::ImageSpec spec = in->spec();

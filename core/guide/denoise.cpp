@@ -101,15 +101,21 @@ struct Level {
     void tapWeights(int y, int yy, int dx, float h, float* __restrict weights) const {
         std::fill(weights, weights + width, 0.0f);
         if (yy < 0 || yy >= height) return;
-        int begin = std::max(0, -dx), end = std::min(width, width - dx);
-        size_t rowP = size_t(y) * size_t(width), rowQ = size_t(yy) * size_t(width) + size_t(dx);
+        const int begin = std::max(0, -dx), end = std::min(width, width - dx);
+        if (end <= begin) return;
+        // Pointers to the first pixel p = (begin, y) and its tap q = (begin + dx, yy), both in
+        // the image: a pointer to before a row's start is undefined even if never read (found
+        // by make test-asan's UBSan: y * width + dx wrapped for dx < 0 at yy = 0).
+        const size_t rowP = size_t(y) * size_t(width) + size_t(begin);
+        const size_t rowQ = size_t(yy) * size_t(width) + size_t(begin + dx);
         const float *px = g.px.data() + rowP, *py = g.py.data() + rowP, *pz = g.pz.data() + rowP;
         const float *nx = g.nx.data() + rowP, *ny = g.ny.data() + rowP, *nz = g.nz.data() + rowP;
         const float *ap = g.albedo.data() + rowP, *aq = g.albedo.data() + rowQ;
         const float *qx = g.px.data() + rowQ, *qy = g.py.data() + rowQ, *qz = g.pz.data() + rowQ;
         const float *mx = g.nx.data() + rowQ, *my = g.ny.data() + rowQ, *mz = g.nz.data() + rowQ;
         const uint32_t *rp = g.region.data() + rowP, *rq = g.region.data() + rowQ;
-        for (int x = begin; x < end; ++x) {
+        float* w = weights + begin;
+        for (int x = 0; x < end - begin; ++x) {
             float dnx = nx[x] - mx[x], dny = ny[x] - my[x], dnz = nz[x] - mz[x];
             float da = ap[x] - aq[x];
             float dpx = qx[x] - px[x], dpy = qy[x] - py[x], dpz = qz[x] - pz[x];
@@ -118,7 +124,7 @@ struct Level {
             float e = (dnx * dnx + dny * dny + dnz * dnz) * invNormal + da * da * invAlbedo +
                       plane * plane / std::max(dist2, 1e-30f) * invPosition;
             bool same = rp[x] == rq[x] && rp[x] != kInvalid;
-            weights[x] = same ? h * expNegative(e) : 0.0f;
+            w[x] = same ? h * expNegative(e) : 0.0f;
         }
     }
 

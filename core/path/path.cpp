@@ -180,6 +180,23 @@ std::vector<uint8_t> serializePath(std::span<const PathVertex> path) {
     return out;
 }
 
+namespace {
+
+/// The surface point a serialised vertex names; std::invalid_argument for a mesh or triangle the
+/// scene does not have (found by tests/fuzz/fuzz_chain_plan: hitAt's std::out_of_range escaped).
+SurfaceHit hitOf(const RenderScene& scene, uint32_t mesh, uint32_t triangle, Vec2f barycentric,
+                 size_t vertex) {
+    try {
+        return scene.hitAt(mesh, triangle, barycentric);
+    } catch (const std::out_of_range&) {
+        throw std::invalid_argument("not a serialised path (vertex " + std::to_string(vertex) +
+                                    ": no mesh " + std::to_string(mesh) + " triangle " +
+                                    std::to_string(triangle) + " in this scene)");
+    }
+}
+
+}  // namespace
+
 std::vector<PathVertex> deserializePath(const RenderScene& scene, const Camera& camera,
                                         std::span<const uint8_t> bytes) {
     if (bytes.size() % sizeof(PackedVertex) != 0 || bytes.size() < 2 * sizeof(PackedVertex))
@@ -198,8 +215,11 @@ std::vector<PathVertex> deserializePath(const RenderScene& scene, const Camera& 
         v.kind = VertexKind(pv.kind);
         v.light = pv.light;
         v.beta = Rgb(1.0f);
+        if (!std::isfinite(pv.a) || !std::isfinite(pv.b) || !std::isfinite(pv.c))
+            throw std::invalid_argument("not a serialised path (vertex " + std::to_string(i) +
+                                        ": not a finite point)");
         if (pv.mesh != UINT32_MAX) {
-            v.hit = scene.hitAt(pv.mesh, pv.triangle, {pv.a, pv.b});
+            v.hit = hitOf(scene, pv.mesh, pv.triangle, {pv.a, pv.b}, i);
             v.p = v.hit.p;
             v.ng = v.hit.ng;
         } else {

@@ -86,7 +86,8 @@ void addConcurrently(Film& film, const std::vector<Sample>& samples, int threads
 
 bool bytewiseEqual(const Image& a, const Image& b) {
     return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+           (a.rgb.empty() ||  // memcmp of null pointers is undefined, even for 0 bytes
+            std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0);
 }
 
 void expectBytewiseEqual(const LayeredImage& a, const LayeredImage& b) {

@@ -11,7 +11,8 @@ namespace partita::test {
 
 inline bool sameBits(const Image& a, const Image& b) {
     return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+           (a.rgb.empty() ||  // memcmp of null pointers is undefined, even for 0 bytes
+            std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0);
 }
 
 /// The combined image and every layer, names included, equal bit for bit.

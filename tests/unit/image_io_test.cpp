@@ -12,6 +12,7 @@
 #include <random>
 #include <tuple>
 
+#include "exr_header.h"
 #include "image_io.h"
 
 namespace partita {
@@ -54,7 +55,8 @@ Image randomImage(int w, int h, uint32_t seed) {
 
 bool bytewiseEqual(const Image& a, const Image& b) {
     return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-           std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+           (a.rgb.empty() ||  // memcmp of null pointers is undefined, even for 0 bytes
+            std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0);
 }
 
 /// Decode an 8-bit image with OIIO, independently of image_io.
@@ -148,6 +150,44 @@ TEST_F(ImageIoTest, ASizeLimitIsCheckedFromTheHeaderAndHeadersReadFromBytes) {
     EXPECT_THROW(
         readImageHeader({reinterpret_cast<const uint8_t*>(junk.data()), junk.size()}, "sky.exr"),
         std::runtime_error);
+}
+
+/// An EXR header of one string attribute whose size field claims `claimed` bytes, followed by
+/// a few bytes of value: what OpenEXR 3.1 would allocate before noticing the file is short.
+std::vector<uint8_t> exrWithAStringClaiming(uint32_t claimed) {
+    std::vector<uint8_t> b = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0};
+    for (const char* s : {"comments", "string"}) b.insert(b.end(), s, s + std::strlen(s) + 1);
+    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(claimed >> (8 * i)));
+    b.insert(b.end(), 16, 'x');
+    return b;
+}
+
+// Found by tests/fuzz/fuzz_environment_image: a 40-byte upload made readImageHeader allocate
+// and clear what the attribute claimed (up to 2 GiB) inside OpenEXR.
+TEST_F(ImageIoTest, AnExrAttributeLargerThanTheFileIsRefusedBeforeOpenExrReadsIt) {
+    const std::vector<uint8_t> bomb = exrWithAStringClaiming(1u << 30);
+    const std::string want = "attribute 'comments' claims 1073741824 bytes, more than the file";
+    try {
+        readImageHeader(bomb, "sky.exr");
+        ADD_FAILURE() << "read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+    const fs::path path = dir_ / "bomb.exr";
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bomb.data()), std::streamsize(bomb.size()));
+    try {
+        readExr(path, nullptr, 1 << 16);
+        ADD_FAILURE() << "read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+    // A claim that fits is left to OpenEXR; a real file passes.
+    EXPECT_EQ(exrHeaderProblem(exrWithAStringClaiming(16)), "");
+    LayeredImage img;
+    img.combined = randomImage(4, 2, 5);
+    writeExr(dir_ / "ok.exr", img, {{"note", "a string attribute"}});
+    EXPECT_EQ(exrHeaderProblem(dir_ / "ok.exr"), "");
 }
 
 TEST_F(ImageIoTest, ExrRejectsMismatchedLayers) {

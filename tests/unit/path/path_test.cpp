@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "camera.h"
 #include "environment_map.h"
@@ -195,6 +196,32 @@ TEST(PathRepresentation, SerialisedPathRebuildsExactly) {
     EXPECT_THROW(deserializePath(f.scene, f.camera, garbage), std::invalid_argument);
     EXPECT_THROW(deserializePath(f.scene, f.camera, std::vector<uint8_t>(5)),
                  std::invalid_argument);
+}
+
+// Found by tests/fuzz/fuzz_chain_plan: a chain plan from a shared volume whose path names a mesh
+// or triangle the scene lacks threw std::out_of_range, which deserializePath's callers (shard
+// renders) do not expect; a non-finite point went on into the densities.
+TEST(PathRepresentation, ASerialisedPathNamingNoSuchTriangleOrNoPointIsRefused) {
+    PathFixture f(test::specularBoxScene());
+    std::vector<uint8_t> good;
+    forEachStrategy(f, 50,
+                    [&](const std::vector<PathVertex>& path, const std::vector<VertexDensities>&,
+                        MisPathInfo, const StrategySample&, int, int) {
+                        if (good.empty() && path.size() >= 3) good = serializePath(path);
+                    });
+    ASSERT_FALSE(good.empty());
+    ASSERT_NO_THROW(deserializePath(f.scene, f.camera, good));
+    // Vertex 1 is a surface vertex: fields at offsets 8 (mesh), 12 (triangle), 16 (a).
+    auto withField = [&](size_t offset, uint32_t value) {
+        std::vector<uint8_t> bytes = good;
+        std::memcpy(bytes.data() + 32 + offset, &value, 4);
+        return bytes;
+    };
+    const float nan = std::nanf("");
+    uint32_t nanBits;
+    std::memcpy(&nanBits, &nan, 4);
+    for (const auto& bytes : {withField(8, 1000), withField(12, 1u << 30), withField(16, nanBits)})
+        EXPECT_THROW(deserializePath(f.scene, f.camera, bytes), std::invalid_argument);
 }
 
 }  // namespace
