@@ -30,6 +30,7 @@ struct RenderCancelled {};
 struct PartitionProgress {
     std::string type;
     double acceptance = 0, b = 0, p = 0, gamma = 0;
+    std::string estimator;  // "chains" or "per-pixel" (issue #23 1); empty: chains
 };
 
 /// One progress report. `done`/`total` are in `unit` (e.g. "samples", "mutations").

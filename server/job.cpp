@@ -76,6 +76,7 @@ pb::Progress toProto(const RenderProgress& p) {
         s->set_b(part.b);
         s->set_p(part.p);
         s->set_gamma(part.gamma);
+        s->set_estimator(part.estimator);
     }
     return out;
 }

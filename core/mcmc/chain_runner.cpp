@@ -233,9 +233,10 @@ std::vector<std::pair<std::string, MutationStats>> ChainRunner::mutationStats(in
     return out;
 }
 
-uint64_t ChainRunner::rays() const {
+uint64_t ChainRunner::rays(int group) const {
     uint64_t n = 0;
-    for (const auto& c : chains_) n += c->markov.rays();
+    for (const auto& c : chains_)
+        if (group < 0 || c->plan.group == uint32_t(group)) n += c->markov.rays();
     return n;
 }
 

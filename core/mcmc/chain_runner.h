@@ -79,7 +79,8 @@ class ChainRunner {
     /// far: a chain can move and still never leave a region of path space (a path between
     /// specular chains that only small perturbations change, issue #22 2).
     uint64_t typeBoundChains(int group = -1) const;
-    uint64_t rays() const;
+    /// Rays traced by the chains (of a group if >= 0), burn-in included.
+    uint64_t rays(int group = -1) const;
     /// Burn-in steps run, over all chains (a time budget's burn-in stops at its share of the
     /// time, startup_rule.h).
     uint64_t burnInSteps() const;

@@ -27,6 +27,7 @@ struct Partition {
     double b = 0;       // half B's estimate of the integral of f* over the partition
     double bError = 0;  // its relative standard error from half B's spread (0: the complement's,
                         // not estimated)
+    bool perPixel = false;  // estimated per pixel by restricted BDPT, not by chains (issue #23 1)
 
     /// Whether a path of type t belongs here (the chains' restriction).
     bool holds(const PathType& t) const;

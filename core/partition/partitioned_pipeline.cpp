@@ -9,6 +9,9 @@
 #include "mcmc/chain_render.h"
 #include "mcmc/startup_parameters.h"
 #include "mcmc/startup_rule.h"
+#include "partition/effort_pilot.h"
+#include "partition/partition_chains.h"
+#include "partition/per_pixel_partitions.h"
 #include "path_type_bytes.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -18,64 +21,6 @@
 namespace partita {
 
 namespace {
-
-constexpr uint64_t kResampleStream = 0x50525350ull;        // "PRSP"
-constexpr uint64_t kChainStreams = 0x5041525443ull << 24;  // "PARTC"
-
-/// The indices of half B's candidates that belong to partition p (4 bytes a record instead of a
-/// copy of its 40: the complement's may hold most of the pre-pass's records).
-std::vector<uint32_t> candidatesOf(const PrepassResult& prepass, const Partition& p) {
-    std::vector<uint32_t> out;
-    for (size_t i = 0; i < prepass.candidatesB.size(); ++i)
-        if (p.holds(prepass.candidatesB[i].type)) out.push_back(uint32_t(i));
-    return out;
-}
-
-/// The chain plan of the partitions: group g is partition g; its chains (in proportion to its
-/// mutations, at least one) start from half B's paths of the partition, resampled in
-/// proportion to their contributions.
-ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& sampler,
-                              const PrepassResult& prepass,
-                              const std::vector<Partition>& partitions,
-                              const std::vector<uint64_t>& mutations,
-                              const PartitionPipelineSettings& s) {
-    ChainPlan plan;
-    plan.seed = ctx.settings.seed;
-    plan.bootstrapSamples = prepass.samplesA + prepass.samplesB;
-    plan.layers = TypeLayers::of({});  // partition images are combined ones: no type layers
-    uint64_t total = 0;
-    for (uint64_t m : mutations) total += m;
-    uint64_t stream = kChainStreams;
-    for (size_t g = 0; g < partitions.size(); ++g) {
-        plan.groups.push_back({partitions[g].label, partitions[g].b});
-        if (mutations[g] == 0) continue;
-        double share = double(mutations[g]) / double(std::max<uint64_t>(1, total));
-        uint64_t byShare = uint64_t(std::llround(share * double(s.chains)));
-        uint64_t chains = std::clamp<uint64_t>(
-            byShare, 1, std::max<uint64_t>(1, mutations[g] / s.minMutationsPerChain));
-        std::vector<uint32_t> members = candidatesOf(prepass, partitions[g]);
-        Rng rng(ctx.settings.seed, kResampleStream + g);
-        std::vector<size_t> starts =
-            resampleCandidates(prepass.candidatesB, members, size_t(chains), rng);
-        const Partition& partition = partitions[g];
-        for (size_t k = 0; k < starts.size(); ++k) {
-            // From the drawn record on, the partition's records in the same order as a copy of
-            // them would hold (the others fail `accept`).
-            std::vector<uint8_t> start =
-                chainStart(ctx, sampler, prepass.candidatesB, members[starts[k]],
-                           [&](const PathType& t) { return partition.holds(t); });
-            if (start.empty()) continue;
-            PlannedChain chain;
-            chain.group = uint32_t(g);
-            chain.stream = stream++;
-            chain.mutations = shareRange(mutations[g], starts.size(), k).count();
-            chain.burnIn = StartupRule::burnIn(s.burnIn, chain.mutations, ctx.settings);
-            chain.start = std::move(start);
-            plan.chains.push_back(std::move(chain));
-        }
-    }
-    return plan;
-}
 
 /// The combined image (Eq. 9: the sum of the partitions' images) and one layer per partition;
 /// `imageOf(g)` is partition g's combined image (its type layers are not kept: each would be a
@@ -121,6 +66,7 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         const Partition& p = partitions[g];
         std::string key = "partition_" + std::to_string(g) + "_";
         st.labels[key + "type"] = p.label;
+        st.labels[key + "estimator"] = p.perPixel ? "per-pixel" : "chains";
         st.values[key + "gamma"] = p.gamma;
         st.values[key + "p"] = p.p;
         st.values[key + "b"] = p.b;
@@ -143,6 +89,7 @@ std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& p
         pp.b = partitions[g].b;
         pp.gamma = partitions[g].gamma;
         pp.acceptance = acceptanceOf(runner, g);
+        pp.estimator = partitions[g].perPixel ? "per-pixel" : "chains";
         out.push_back(std::move(pp));
     }
     return out;
@@ -158,7 +105,110 @@ struct PartitionedStart {
     RenderStats stats;
     double startupSeconds = 0;
     uint64_t startupRays = 0;
+    uint64_t perPixelSpp = 0;  // a mutation budget's per-pixel samples of every pixel
+    double pixelShare = 0;     // a time budget's share of the time left for them
+
+    bool anyPerPixel() const {
+        for (const Partition& p : partitions)
+            if (p.perPixel) return true;
+        return false;
+    }
 };
+
+ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& partitions) {
+    return [&partitions](uint32_t group) -> PathRestriction {
+        const Partition& p = partitions[group];
+        return [p](const PathType& t) { return p.holds(t); };
+    };
+}
+
+/// The pilots' measurements and the effort plan into the start's statistics.
+void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPlan& plan) {
+    st.values["pilot_seconds"] = m.seconds;
+    st.values["pilot_rays"] = double(m.rays);
+    st.values["pilot_mutations"] = double(m.chainMutations);
+    st.values["pixel_cost"] = m.pixelCost;
+    st.values["per_pixel_share"] = plan.pixelShare;
+    st.values["predicted_error_x_cost"] = plan.errorTimesCost;
+    for (size_t g = 0; g < m.partitions.size(); ++g) {
+        const std::string key = "partition_" + std::to_string(g) + "_";
+        st.values[key + "chain_variance"] = m.partitions[g].chainVariance;
+        st.values[key + "mutation_cost"] = m.partitions[g].mutationCost;
+        st.values[key + "pixel_variance"] = m.partitions[g].pixelVariance;
+        st.values[key + "share"] = plan.perPixel[g] ? 0.0 : plan.chainShare[g];
+        st.labels[key + "reason"] = plan.reason[g];
+    }
+}
+
+/// Each partition's estimator and its mutations (issue #23 1, 3; effort_plan.h): the pilots,
+/// then the plan. The paper's Eq. 10 ("p") runs no pilot. A mutation budget is a cost: its
+/// mutations at the pilot's mean cost per mutation, shared by the plan; a per-pixel-only render
+/// reads it as samples per pixel.
+std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
+                                   const PrepassResult& prepass,
+                                   const PartitionPipelineSettings& settings,
+                                   PartitionMutations& mutations, Clock::time_point start,
+                                   PartitionedStart& out) {
+    const RenderSettings& rs = ctx.settings;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
+    // A time budget has no mutation count: a nominal one only splits the chains' shares.
+    const uint64_t budget = timed ? (uint64_t(1) << 50)
+                                  : uint64_t(rs.budget * double(rs.width) * double(rs.height));
+    const EstimatorChoice choice = parseEstimatorChoice(settings.estimators);
+    const bool neyman = settings.allocation != "p";
+    out.stats.labels["estimators"] = settings.estimators;
+    out.stats.labels["allocation"] = neyman ? "neyman" : "p";
+    std::vector<Partition>& partitions = out.partitions;
+    if (partitions.empty() || !neyman)
+        return allocateMutations(partitions, budget, settings.minMutationsPerChain);
+
+    const ChainRunner::MutationFactory factory =
+        mutations.factory(ctx, partitions, out.prepared);
+    const EffortMeasurement m = measureEffort(
+        ctx, sampler, prepass, partitions, factory, restrictionsOf(partitions), settings, choice,
+        timed ? rs.budget - secondsSince(start) : 0);
+    const EffortPlan plan = planEffort(m.partitions, m.pixelCost, choice, true);
+    addEffortStats(out.stats, m, plan);
+    out.startupRays += m.rays;
+    bool anyPixel = false;
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        partitions[g].perPixel = plan.perPixel[g];
+        anyPixel = anyPixel || plan.perPixel[g];
+    }
+    std::vector<uint64_t> perPartition(partitions.size(), 0);
+    if (timed) {
+        // Chains per partition in proportion to its mutation rate, share_g / c_g.
+        double sum = 0;
+        for (size_t g = 0; g < partitions.size(); ++g)
+            if (!plan.perPixel[g] && m.partitions[g].mutationCost > 0)
+                sum += plan.chainShare[g] / m.partitions[g].mutationCost;
+        for (size_t g = 0; g < partitions.size(); ++g) {
+            if (plan.perPixel[g]) continue;
+            const double rate = m.partitions[g].mutationCost > 0
+                                    ? plan.chainShare[g] / m.partitions[g].mutationCost
+                                    : 0;
+            perPartition[g] = std::max<uint64_t>(
+                settings.minMutationsPerChain,
+                uint64_t(sum > 0 ? rate / sum * double(budget) : double(budget)));
+        }
+        out.pixelShare = anyPixel ? plan.pixelShare : 0;
+        return perPartition;
+    }
+    const double cost = double(budget) * m.mutationCost;  // rays
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        if (plan.perPixel[g]) continue;
+        const double c = m.partitions[g].mutationCost;
+        perPartition[g] = std::max<uint64_t>(
+            settings.minMutationsPerChain,
+            c > 0 ? uint64_t(std::llround(plan.chainShare[g] * cost / c)) : budget);
+    }
+    if (anyPixel) {
+        const double spp = cost > 0 && m.pixelCost > 0 ? std::ceil(plan.pixelShare * cost / m.pixelCost)
+                                                       : rs.budget;
+        out.perPixelSpp = uint64_t(std::clamp(spp, 1.0, double(uint64_t(1) << 20)));
+    }
+    return perPartition;
+}
 
 PartitionedStart startPartitioned(const RenderContext& ctx,
                                   const PartitionPipelineSettings& settings,
@@ -168,8 +218,6 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
         throw std::invalid_argument(
             algorithm + " needs a perspective camera (its mutations connect paths to the pinhole)");
     auto start = Clock::now();
-    bool timed = rs.budgetKind == BudgetKind::Seconds;
-    double pixels = double(rs.width) * rs.height;
 
     std::string why;
     StartupEstimator estimator = choosePrepassEstimator(ctx.scene, settings.prepass, why);
@@ -182,18 +230,17 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
 
     PartitionedStart out;
     out.partitions = makePartitions(prepass, settings.k);
-    // A time budget has no mutation count: a nominal one only splits the chains' shares.
-    uint64_t budget = timed ? (uint64_t(1) << 50) : uint64_t(rs.budget * pixels);
-    std::vector<uint64_t> perPartition =
-        allocateMutations(out.partitions, budget, settings.minMutationsPerChain);
-    out.plan = planPartitionChains(ctx, sampler, prepass, out.partitions, perPartition, settings);
     RenderStats setupStats;
     out.prepared = mutations.prepare(ctx, prepass, out.partitions, setupStats);
     ctx.throwIfCancelled();
-    // The pre-pass, the plan and the mutations' own set-up (guided's guides) come before the
-    // chains: a time budget's chains get what is left.
-    out.startupSeconds = secondsSince(start);
     out.startupRays = prepass.rays;
+    const std::vector<uint64_t> perPartition =
+        chooseEffort(ctx, sampler, prepass, settings, mutations, start, out);
+    ctx.throwIfCancelled();
+    out.plan = planPartitionChains(ctx, sampler, prepass, out.partitions, perPartition, settings);
+    // The pre-pass, the mutations' own set-up (guided's guides), the pilots and the plan come
+    // before the chains: a time budget's chains get what is left.
+    out.startupSeconds = secondsSince(start);
 
     RenderStats& st = out.stats;
     st.labels["prepass"] = why;
@@ -215,13 +262,6 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     return out;
 }
 
-ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& partitions) {
-    return [&partitions](uint32_t group) -> PathRestriction {
-        const Partition& p = partitions[group];
-        return [p](const PathType& t) { return p.holds(t); };
-    };
-}
-
 // The shard plan's state: the chain plan, the partitions, prepare's bytes, the start-up's
 // statistics and rays.
 void putPartition(ByteWriter& w, const Partition& p) {
@@ -233,6 +273,7 @@ void putPartition(ByteWriter& w, const Partition& p) {
     w.put(p.p);
     w.put(p.b);
     w.put(p.bError);
+    w.put(uint8_t(p.perPixel));
 }
 
 Partition getPartition(ByteReader& r) {
@@ -245,6 +286,7 @@ Partition getPartition(ByteReader& r) {
     p.p = r.get<double>();
     p.b = r.get<double>();
     p.bError = r.get<double>();
+    p.perPixel = r.get<uint8_t>() != 0;
     return p;
 }
 
@@ -266,6 +308,8 @@ std::vector<uint8_t> serializeStart(const PartitionedStart& s) {
     }
     w.put(s.startupSeconds);
     w.put(s.startupRays);
+    w.put(s.perPixelSpp);
+    w.put(s.pixelShare);
     return std::move(w.bytes);
 }
 
@@ -289,6 +333,8 @@ PartitionedStart deserializeStart(std::span<const uint8_t> bytes) {
     }
     s.startupSeconds = r.get<double>();
     s.startupRays = r.get<uint64_t>();
+    s.perPixelSpp = r.get<uint64_t>();
+    s.pixelShare = r.get<double>();
     if (!r.atEnd()) r.fail("trailing bytes");
     return s;
 }
@@ -306,18 +352,81 @@ VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
     return base;
 }
 
+namespace {
+
+/// The per-pixel partitions' samples (none when every partition has chains): a mutation
+/// budget's planned samples per pixel, or a time budget's share of the time left after the
+/// start-up (at least one sample: the chains never see these partitions' paths). Phase
+/// "render", in samples.
+struct PerPixelRun {
+    std::unique_ptr<PerPixelPartitions> renderer;
+    uint64_t spp = 0;
+    double seconds = 0;
+};
+
+PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
+                           Clock::time_point start) {
+    PerPixelRun out;
+    if (!st.anyPerPixel()) return out;
+    const RenderSettings& rs = ctx.settings;
+    const double pixels = double(rs.width) * rs.height;
+    auto begin = Clock::now();
+    out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions);
+    if (rs.budgetKind != BudgetKind::Seconds) {
+        ProgressReporter progress(ctx.observer, "render", "samples",
+                                  double(st.perPixelSpp) * pixels);
+        out.renderer->renderPass({0, st.perPixelSpp}, progress);
+        progress.flush();
+        out.spp = st.perPixelSpp;
+    } else {
+        const double target = st.pixelShare * std::max(0.0, rs.budget - secondsSince(start));
+        ProgressReporter progress(ctx.observer, "render", "samples", 0, target);
+        double perSample = 0;
+        while (out.spp == 0 || (secondsSince(begin) < target && secondsSince(start) < rs.budget &&
+                                out.spp < (uint64_t(1) << 20))) {
+            ctx.throwIfCancelled();
+            // Passes of about a quarter of a second, never far past the share.
+            const double left = std::min(target - secondsSince(begin), 0.25);
+            const uint64_t n =
+                perSample > 0 ? uint64_t(std::clamp(left / perSample, 1.0, 4096.0)) : 1;
+            out.renderer->renderPass({out.spp, out.spp + n}, progress);
+            out.spp += n;
+            perSample = secondsSince(begin) / double(out.spp);
+        }
+        progress.flush();
+    }
+    out.seconds = secondsSince(begin);
+    return out;
+}
+
+void addPerPixelStats(RenderStats& st, const PerPixelRun& run, double rays) {
+    st.values["per_pixel_spp"] = double(run.spp);
+    st.values["per_pixel_seconds"] = run.seconds;
+    st.values["per_pixel_rays"] = rays;
+}
+
+}  // namespace
+
 RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipelineSettings& settings,
                                const std::string& algorithm, PartitionMutations& mutations) {
     const RenderSettings& rs = ctx.settings;
     auto start = Clock::now();
     const PartitionedStart st = startPartitioned(ctx, settings, algorithm, mutations);
     const std::vector<Partition>& partitions = st.partitions;
+    // The per-pixel partitions first: the chains then get what is left of a time budget.
+    const PerPixelRun pixels = renderPerPixel(ctx, st, start);
+    const std::vector<Image> pixelImages =
+        pixels.renderer ? pixels.renderer->images(pixels.spp) : std::vector<Image>{};
+    const double pixelRays = pixels.renderer ? double(pixels.renderer->rays()) : 0;
+    const double startupSeconds = st.startupSeconds + pixels.seconds;
     // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
     const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, st.prepared);
     ChainRunner runner(ctx, st.plan, factory, restrictionsOf(partitions), settings.roundMutations);
-    auto imageOf = [&](uint32_t g) { return runner.resolveGroupCombined(g); };
+    auto imageOf = [&](uint32_t g) {
+        return partitions[g].perPixel ? pixelImages[g] : runner.resolveGroupCombined(g);
+    };
     runChainsWithPreviews(
-        ctx, runner, st.plan, st.startupSeconds,
+        ctx, runner, st.plan, startupSeconds,
         [&](ThreadPool*) { return resolvePartitions(imageOf, partitions, rs.width, rs.height); },
         [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
         [&](ProgressReporter& progress) {
@@ -327,9 +436,10 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     RenderResult result;
     result.image = resolvePartitions(imageOf, partitions, rs.width, rs.height);
     result.stats = st.stats;
-    addChainStats(result.stats, runner, st.plan, secondsSince(start), st.startupSeconds,
-                  st.startupRays, double(rs.width) * rs.height);
+    addChainStats(result.stats, runner, st.plan, secondsSince(start), startupSeconds,
+                  st.startupRays + uint64_t(pixelRays), double(rs.width) * rs.height);
     addPartitionStats(result.stats, partitions, progressOf(runner));
+    addPerPixelStats(result.stats, pixels, pixelRays);
     return result;
 }
 
@@ -339,7 +449,10 @@ std::vector<uint8_t> PartitionedShards::plan(const RenderContext& ctx) {
 }
 
 uint32_t PartitionedShards::maxShards(const RenderContext&, std::span<const uint8_t> plan) const {
-    return uint32_t(std::max<size_t>(1, deserializeStart(plan).plan.chains.size()));
+    // Every shard gets a chain; with no chain at all, a per-pixel sample.
+    const PartitionedStart st = deserializeStart(plan);
+    if (!st.plan.chains.empty()) return uint32_t(std::min<size_t>(st.plan.chains.size(), UINT32_MAX));
+    return uint32_t(std::clamp<uint64_t>(st.perPixelSpp, 1, UINT32_MAX));
 }
 
 ShardWork PartitionedShards::renderShard(const RenderContext& ctx, std::span<const uint8_t> bytes,
@@ -348,19 +461,37 @@ ShardWork PartitionedShards::renderShard(const RenderContext& ctx, std::span<con
     // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
     const ChainRunner::MutationFactory factory =
         mutations_.factory(ctx, st.partitions, st.prepared);
-    return runChainShard(ctx, st.plan, shard, shards, factory, restrictionsOf(st.partitions),
-                         settings_.roundMutations);
+    ShardWork work = runChainShard(ctx, st.plan, shard, shards, factory,
+                                   restrictionsOf(st.partitions), settings_.roundMutations);
+    if (!st.anyPerPixel()) return work;
+    // The per-pixel partitions' film comes last: this shard's range of their samples.
+    PerPixelPartitions pixels(ctx, st.partitions);
+    const ShareRange range = shareRange(st.perPixelSpp, shards, shard);
+    const double pixelCount = double(ctx.settings.width) * ctx.settings.height;
+    ProgressReporter progress(ctx.observer, "render", "samples",
+                              double(range.count()) * pixelCount);
+    pixels.renderPass({range.first, range.first + range.count()}, progress);
+    progress.flush();
+    work.sums["per_pixel_rays"] += double(pixels.rays());
+    work.films.push_back(pixels.takeFilm());
+    work.counts.push_back(range.count());
+    return work;
 }
 
 RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<const uint8_t> bytes,
                                         const ShardWork& merged) {
     const PartitionedStart st = deserializeStart(bytes);
     const RenderSettings& rs = ctx.settings;
-    if (merged.films.size() != st.partitions.size())
+    const size_t films = st.partitions.size() + (st.anyPerPixel() ? 1 : 0);
+    if (merged.films.size() != films)
         throw std::invalid_argument("merged work has " + std::to_string(merged.films.size()) +
                                     " films for " + std::to_string(st.partitions.size()) +
                                     " partitions");
+    const std::vector<Image> pixelImages =
+        st.anyPerPixel() ? perPixelImages(merged.films.back(), st.partitions, merged.counts.back())
+                         : std::vector<Image>{};
     auto imageOf = [&](uint32_t g) {
+        if (st.partitions[g].perPixel) return pixelImages[g];
         return merged.films[g].resolveCombined(
             ChainRunner::filmScale(st.plan.groups[g].b, rs.width, rs.height, merged.counts[g]));
     };
@@ -381,6 +512,10 @@ RenderResult PartitionedShards::resolve(const RenderContext& ctx, std::span<cons
     result.stats = st.stats;
     addMergedChainStats(result.stats, merged, st.plan, double(rs.width) * rs.height);
     result.stats.values["rays"] += double(st.startupRays);
+    if (st.anyPerPixel()) {
+        result.stats.values["per_pixel_spp"] = double(merged.counts.back());
+        result.stats.values["rays"] += sum("per_pixel_rays");
+    }
     addPartitionStats(result.stats, st.partitions, groups);
     return result;
 }

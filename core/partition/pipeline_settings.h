@@ -26,6 +26,15 @@ struct PartitionPipelineSettings {
     uint64_t minMutationsPerChain = 32;
     uint64_t roundMutations = 1024;
     uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
+    /// Each partition's estimator (effort_plan.h): "auto" (the lower expected error per second
+    /// from the pilots), "chains" (the paper's) or "per-pixel" (restricted BDPT for all).
+    std::string estimators = "auto";
+    /// The budget across partitions: "neyman" (by measured error per cost, effort_plan.h) or
+    /// "p" (the paper's Eq. 10: mutations in proportion to P(i); every partition has chains).
+    std::string allocation = "neyman";
+    /// The chains' pilot's share of the budget (of the mutations, or of the time left after the
+    /// pre-pass).
+    double pilotShare = 0.05;
 };
 
 /// Declares the pipeline's parameters in the table of S (PartitionedSettings, GuidedSettings).
@@ -51,6 +60,22 @@ void addPipelineParameters(SettingsTable<S>& t) {
               .withUnit("steps")
               .within(0, 1 << 20),
           &PartitionPipelineSettings::burnIn);
+    t.add(ParameterSpec("estimators",
+                        "each partition's estimator: auto (chains or per-pixel BDPT samples, "
+                        "whichever the pilots predict gives less error per cost), chains (the "
+                        "paper's), per-pixel (BDPT restricted to the partition, for all)")
+              .withChoices({"auto", "chains", "per-pixel"}),
+          &PartitionPipelineSettings::estimators);
+    t.add(ParameterSpec("allocation",
+                        "the budget across partitions: neyman (by the pilots' error per cost) or "
+                        "p (Eq. 10, mutations in proportion to P(i), every partition with chains)")
+              .withChoices({"neyman", "p"}),
+          &PartitionPipelineSettings::allocation);
+    t.add(ParameterSpec("pilot_share",
+                        "the chains' pilot's share of the budget (mutations, or the time after "
+                        "the pre-pass); its chains are not part of the image")
+              .within(0.001, 0.5),
+          &PartitionPipelineSettings::pilotShare);
 }
 
 }  // namespace partita

@@ -72,8 +72,9 @@ ShardWork runChainShard(const RenderContext& ctx, const ChainPlan& plan, uint32_
 
 void addMergedChainStats(RenderStats& st, const ShardWork& merged, const ChainPlan& plan,
                          double pixels) {
-    double done = 0;
-    for (uint64_t n : merged.counts) done += double(n);
+    double done = 0;  // the groups' films (a film after them holds other work: samples)
+    for (size_t g = 0; g < plan.groups.size() && g < merged.counts.size(); ++g)
+        done += double(merged.counts[g]);
     st.values["chains"] = double(plan.chains.size());
     st.values["mutations"] = done;
     st.values["mpp"] = done / pixels;

@@ -111,12 +111,17 @@ std::string partitionTable(const RenderProgress& p) {
     for (const auto& part : p.partitions) width = std::max(width, part.type.size());
     width = std::min<size_t>(width, 40);
     char line[256];
-    std::snprintf(line, sizeof line, "  %-*s  %6s  %9s  %5s\n", int(width), "partition", "P(i)",
-                  "b_i", "acc");
+    std::snprintf(line, sizeof line, "  %-*s  %6s  %9s  %-9s  %5s\n", int(width), "partition",
+                  "P(i)", "b_i", "estimator", "acc");
     std::string out = line;
     for (const auto& part : p.partitions) {
-        std::snprintf(line, sizeof line, "  %-*s  %6.3f  %9.3e  %5.2f\n", int(width),
-                      part.type.substr(0, width).c_str(), part.p, part.b, part.acceptance);
+        // A per-pixel partition has no chains: no acceptance.
+        const bool perPixel = part.estimator == "per-pixel";
+        char acceptance[16];
+        std::snprintf(acceptance, sizeof acceptance, "%5.2f", part.acceptance);
+        std::snprintf(line, sizeof line, "  %-*s  %6.3f  %9.3e  %-9s  %5s\n", int(width),
+                      part.type.substr(0, width).c_str(), part.p, part.b,
+                      perPixel ? "per-pixel" : "chains", perPixel ? "-" : acceptance);
         out += line;
     }
     return out;

@@ -29,12 +29,14 @@ def state_name(state: int) -> str:
 @dataclass
 class PartitionStats:
     """One of partitioned's partitions in a progress report: its type string ("complement" for
-    the complement), its chains' running acceptance, b_i, P(i) and the pre-pass's gamma."""
+    the complement), its chains' running acceptance, b_i, P(i), the pre-pass's gamma and its
+    estimator ("chains", or "per-pixel": restricted BDPT samples, no acceptance)."""
     type: str
     acceptance: float
     b: float
     p: float
     gamma: float = 0.0
+    estimator: str = "chains"
 
 
 @dataclass
@@ -67,7 +69,8 @@ class Progress:
     def from_proto(cls, p) -> "Progress":
         return cls(p.phase, p.done, p.total, p.unit, p.rate_per_second, p.eta_seconds,
                    p.elapsed_seconds,
-                   [PartitionStats(q.type, q.acceptance, q.b, q.p, q.gamma) for q in p.partitions],
+                   [PartitionStats(q.type, q.acceptance, q.b, q.p, q.gamma,
+                                   q.estimator or "chains") for q in p.partitions],
                    dict(p.values), p)
 
 

@@ -1,0 +1,129 @@
+#include "partition/effort_pilot.h"
+
+#include <algorithm>
+
+#include "mcmc/bootstrap.h"
+#include "partition/partition_chains.h"
+#include "partition/per_pixel_partitions.h"
+#include "progress_reporter.h"
+
+namespace partita {
+
+namespace {
+
+constexpr uint64_t kPilotSalt = 1;
+
+/// Splits each group g of `plan` in two: group 2g gets g's even chains, 2g + 1 its odd ones
+/// (the same b: two independent halves of the partition's estimate).
+ChainPlan intoHalves(ChainPlan plan) {
+    std::vector<ChainGroup> groups;
+    for (const ChainGroup& g : plan.groups) {
+        groups.push_back({g.label + " (even)", g.b});
+        groups.push_back({g.label + " (odd)", g.b});
+    }
+    std::vector<uint64_t> seen(plan.groups.size(), 0);
+    for (PlannedChain& c : plan.chains) c.group = 2 * c.group + uint32_t(seen[c.group]++ % 2);
+    plan.groups = std::move(groups);
+    return plan;
+}
+
+/// v_g of the header, or -1 when a half ran no mutation.
+double halvesVariance(const ChainRunner& runner, uint32_t g) {
+    const uint64_t ma = runner.mutationsDone(int(2 * g)), mb = runner.mutationsDone(int(2 * g + 1));
+    if (ma == 0 || mb == 0) return -1;
+    const Image a = runner.resolveGroupCombined(2 * g), b = runner.resolveGroupCombined(2 * g + 1);
+    double sum = 0;  // in pixel order: deterministic
+    for (size_t i = 0; i + 2 < a.rgb.size(); i += 3) {
+        const double d = double(luminance(Rgb(a.rgb[i], a.rgb[i + 1], a.rgb[i + 2]))) -
+                         double(luminance(Rgb(b.rgb[i], b.rgb[i + 1], b.rgb[i + 2])));
+        sum += d * d;
+    }
+    return sum / (1.0 / double(ma) + 1.0 / double(mb));
+}
+
+/// The chains' pilot: v_g and c_g of every partition into `out`.
+void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
+                const PrepassResult& prepass, const std::vector<Partition>& partitions,
+                const ChainRunner::MutationFactory& mutations,
+                const ChainRunner::RestrictionFactory& restrictions,
+                const PartitionPipelineSettings& s, double secondsLeft, EffortMeasurement& out) {
+    const RenderSettings& rs = ctx.settings;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
+    const size_t n = partitions.size();
+    // The same share of the pilot for every partition: each one's error is measured alike.
+    const double pixels = double(rs.width) * rs.height;
+    const uint64_t perPartition =
+        timed ? (uint64_t(1) << 40)
+              : std::max<uint64_t>(4 * s.minMutationsPerChain,
+                                   uint64_t(s.pilotShare * rs.budget * pixels / double(n)));
+    const ChainPlan plan = intoHalves(planPartitionChains(
+        ctx, sampler, prepass, partitions, std::vector<uint64_t>(n, perPartition), s, kPilotSalt));
+    auto halfOf = [](uint32_t group) { return group / 2; };
+    ChainRunner runner(
+        ctx, plan, [&](uint32_t group) { return mutations(halfOf(group)); },
+        [&](uint32_t group) { return restrictions(halfOf(group)); }, s.roundMutations);
+    const double seconds = timed ? std::max(1e-3, s.pilotShare * secondsLeft) : 0;
+    auto begin = Clock::now();
+    ProgressReporter progress(ctx.observer, "pilot", "mutations",
+                              timed ? 0 : double(plan.mutations()), seconds);
+    runner.run(progress, seconds);
+    progress.flush();
+    const double chainSeconds = secondsSince(begin);
+    const double secondsPerRay = runner.rays() > 0 ? chainSeconds / double(runner.rays()) : 0;
+    out.rays += runner.rays();
+    out.chainMutations = runner.mutationsDone();
+    out.mutationCost = out.chainMutations > 0 ? double(runner.rays()) /
+                                                    double(out.chainMutations) *
+                                                    (timed ? secondsPerRay : 1.0)
+                                              : 0;
+    double worst = 0;  // the largest measured v_g: for a partition whose halves did not both run
+    for (size_t g = 0; g < n; ++g) {
+        PartitionEffort& e = out.partitions[g];
+        e.chainVariance = halvesVariance(runner, uint32_t(g));
+        worst = std::max(worst, e.chainVariance);
+        const uint64_t done = runner.mutationsDone(int(2 * g)) + runner.mutationsDone(int(2 * g + 1));
+        const double rays = double(runner.rays(int(2 * g)) + runner.rays(int(2 * g + 1)));
+        e.mutationCost = done > 0 ? rays / double(done) * (timed ? secondsPerRay : 1.0)
+                                  : out.mutationCost;
+    }
+    for (PartitionEffort& e : out.partitions)
+        if (e.chainVariance < 0) e.chainVariance = worst > 0 ? worst : 1.0;
+}
+
+}  // namespace
+
+EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
+                                const PrepassResult& prepass,
+                                const std::vector<Partition>& partitions,
+                                const ChainRunner::MutationFactory& mutations,
+                                const ChainRunner::RestrictionFactory& restrictions,
+                                const PartitionPipelineSettings& settings, EstimatorChoice choice,
+                                double secondsLeft) {
+    auto begin = Clock::now();
+    const bool timed = ctx.settings.budgetKind == BudgetKind::Seconds;
+    EffortMeasurement out;
+    out.partitions.resize(partitions.size());
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        out.partitions[g].p = partitions[g].p;
+        out.partitions[g].b = partitions[g].b;
+    }
+    if (choice != EstimatorChoice::Chains) {
+        const double pixels = double(ctx.settings.width) * ctx.settings.height;
+        ProgressReporter progress(ctx.observer, "pilot", "samples", 2 * pixels);
+        PerPixelPilot pilot =
+            runPerPixelPilot(ctx, partitions, kPerPixelPilotSample, progress);
+        progress.flush();
+        for (size_t g = 0; g < partitions.size(); ++g)
+            out.partitions[g].pixelVariance = pilot.variance[g];
+        out.pixelCost = timed ? pilot.secondsPerSample : pilot.raysPerSample;
+        out.rays += uint64_t(2 * pilot.raysPerSample);
+        ctx.throwIfCancelled();
+    }
+    if (choice != EstimatorChoice::PerPixel)
+        chainPilot(ctx, sampler, prepass, partitions, mutations, restrictions, settings,
+                   std::max(0.0, secondsLeft - secondsSince(begin)), out);
+    out.seconds = secondsSince(begin);
+    return out;
+}
+
+}  // namespace partita

@@ -1,0 +1,53 @@
+// The start-up's pilots that measure what each estimator would give a partition (issue #23 1, 3;
+// the formulas in effort_plan.h). Both are independent of the render's own samples and are not
+// part of its image:
+// - the per-pixel pilot: two samples of every pixel (per_pixel_partitions.h), V_g per partition;
+// - the chains' pilot: every partition's chains in two halves (groups 2g and 2g + 1, other
+//   starts and streams than the render's), for a share of the budget; the halves' difference
+//   gives the error of partition g's image after its m_g mutations, and v_g = that error
+//   divided by (1 / m_a + 1 / m_b) (independent halves of m_a and m_b mutations, each of
+//   variance v / m).
+// Costs are rays for a mutation budget (so that the choice, and the image, do not depend on the
+// machine or the threads) and seconds for a time budget.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "algorithm.h"
+#include "clock.h"
+#include "mcmc/chain_runner.h"
+#include "partition/effort_plan.h"
+#include "partition/partition.h"
+#include "partition/pipeline_settings.h"
+#include "partition/prepass.h"
+
+namespace partita {
+
+class BootstrapSampler;
+
+struct EffortMeasurement {
+    std::vector<PartitionEffort> partitions;
+    double pixelCost = 0;     // c_pp: one sample of every pixel
+    double mutationCost = 0;  // the mean cost of one pilot mutation over every partition
+    double seconds = 0;       // both pilots
+    uint64_t rays = 0;
+    uint64_t chainMutations = 0;  // the chains' pilot's
+};
+
+/// Runs the pilots `choice` needs (none of the per-pixel one for "chains", none of the chains'
+/// for "per-pixel"). A time budget's chains' pilot runs for `pilotShare` of the time left before
+/// `deadline`'s budget end; a mutation budget's for pilotShare of its mutations, spread evenly
+/// over the partitions. Phase "pilot"; cancellable.
+EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
+                                const PrepassResult& prepass,
+                                const std::vector<Partition>& partitions,
+                                const ChainRunner::MutationFactory& mutations,
+                                const ChainRunner::RestrictionFactory& restrictions,
+                                const PartitionPipelineSettings& settings, EstimatorChoice choice,
+                                double secondsLeft);
+
+/// The sample index of the per-pixel pilot's first sample: far from any image's own.
+inline constexpr uint64_t kPerPixelPilotSample = uint64_t(1) << 40;
+
+}  // namespace partita

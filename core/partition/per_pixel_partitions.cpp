@@ -1,0 +1,101 @@
+#include "partition/per_pixel_partitions.h"
+
+#include <algorithm>
+
+#include "clock.h"
+#include "integrators/bdpt/bdpt_passes.h"
+#include "progress_reporter.h"
+
+namespace partita {
+
+PathType PerPixelPartitions::keyOf(size_t g) {
+    PathType key;
+    for (size_t i = 0; i < g; ++i) key = key.withVertex(false);
+    return key;
+}
+
+namespace {
+
+TypeLayers keysOf(const std::vector<Partition>& partitions) {
+    std::vector<PathType> keys;
+    for (size_t g = 0; g < partitions.size(); ++g)
+        if (partitions[g].perPixel) keys.push_back(PerPixelPartitions::keyOf(g));
+    return TypeLayers::of(std::move(keys));
+}
+
+}  // namespace
+
+PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
+                                       const std::vector<Partition>& partitions)
+    : partitions_(partitions) {
+    // The partition of a contribution's type, if it is estimated here: its key; else dropped.
+    auto key = [this](PathType& type) {
+        for (size_t g = 0; g < partitions_.size(); ++g) {
+            if (!partitions_[g].holds(type)) continue;
+            if (!partitions_[g].perPixel) return false;
+            type = keyOf(g);
+            return true;
+        }
+        return false;
+    };
+    passes_ = std::make_unique<BdptPasses>(ctx, BdptSettings{}, keysOf(partitions_), key);
+}
+
+PerPixelPartitions::~PerPixelPartitions() = default;
+
+void PerPixelPartitions::renderPass(SampleRange range, ProgressReporter& progress) {
+    const uint64_t most = passes_->maxPassSamples();
+    for (uint64_t first = range.first; first < range.end; first += most)
+        passes_->renderPass({first, std::min(range.end, first + most)}, progress);
+}
+
+std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>& partitions,
+                                  uint64_t spp) {
+    std::vector<Image> out(partitions.size());
+    LayeredImage resolved =
+        film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, int(partitions.size()), nullptr);
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        if (!partitions[g].perPixel) continue;
+        const Image* layer = resolved.layer(PerPixelPartitions::keyOf(g).toString());
+        out[g] = layer ? *layer : Image(film.width(), film.height());
+    }
+    return out;
+}
+
+std::vector<Image> PerPixelPartitions::images(uint64_t spp) const {
+    return perPixelImages(passes_->filmRef(), partitions_, spp);
+}
+
+const Film& PerPixelPartitions::film() const { return passes_->filmRef(); }
+Film PerPixelPartitions::takeFilm() { return passes_->takeFilm(); }
+uint64_t PerPixelPartitions::rays() const { return passes_->rays(); }
+
+void PerPixelPartitions::merge(const Film& other) { passes_->absorb(other); }
+
+PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
+                               uint64_t first, ProgressReporter& progress) {
+    auto begin = Clock::now();
+    std::vector<Partition> all = partitions;
+    for (Partition& p : all) p.perPixel = true;
+    PerPixelPartitions a(ctx, all), b(ctx, all);
+    a.renderPass({first, first + 1}, progress);
+    b.renderPass({first + 1, first + 2}, progress);
+    const std::vector<Image> ia = a.images(1), ib = b.images(1);
+    PerPixelPilot out;
+    out.variance.assign(partitions.size(), 0);
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        double sum = 0;  // in pixel order: deterministic
+        for (size_t i = 0; i + 2 < ia[g].rgb.size(); i += 3) {
+            const double d =
+                double(luminance(Rgb(ia[g].rgb[i], ia[g].rgb[i + 1], ia[g].rgb[i + 2]))) -
+                double(luminance(Rgb(ib[g].rgb[i], ib[g].rgb[i + 1], ib[g].rgb[i + 2])));
+            sum += d * d;
+        }
+        out.variance[g] = sum / 2;
+    }
+    out.raysPerSample = double(a.rays() + b.rays()) / 2;
+    out.secondsPerSample = secondsSince(begin) / 2;
+    return out;
+}
+
+}  // namespace partita

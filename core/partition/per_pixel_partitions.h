@@ -1,0 +1,72 @@
+// The partitions estimated per pixel (issue #23 1): instead of chains, a partition may be
+// integrated by stratified BDPT samples (integrators/bdpt/bdpt_passes.h) restricted to its types.
+// One BDPT sample of a pixel estimates every per-pixel partition at once: each contribution goes
+// to the partition that holds its type, or is dropped when that partition has chains. MIS stays
+// exact under the restriction (a path's strategies all give it the same type), so partition g's
+// image converges to the full image's layers of g's types, and the chain partitions and the
+// per-pixel ones add up to the whole image exactly once.
+//
+// The film keeps one layer per per-pixel partition, under a key that names the partition (a
+// film layer's key, L D^g E, not the type of the paths in it). Every (pixel, sample) has its own
+// random stream and the film sums exactly: the images depend on neither the threads, nor the
+// passes, nor the shards.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "algorithm.h"
+#include "film.h"
+#include "integrators/sample_passes.h"
+#include "partition/partition.h"
+
+namespace partita {
+
+class BdptPasses;
+
+class PerPixelPartitions {
+  public:
+    /// Estimates the partitions with `perPixel` set (the others' contributions are dropped).
+    PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions);
+    ~PerPixelPartitions();
+
+    /// Samples [range.first, range.end) of every pixel, on ctx's pool; advances `progress` by
+    /// pixels x samples; cancellable.
+    void renderPass(SampleRange range, ProgressReporter& progress);
+    /// Partition g's image after `spp` samples per pixel: empty when g has chains, black when no
+    /// sample reached it.
+    std::vector<Image> images(uint64_t spp) const;
+    const Film& film() const;
+    Film takeFilm();
+    /// Adds a film of the same partitions (another shard's samples).
+    void merge(const Film& other);
+    uint64_t rays() const;
+
+    /// The film key of partition g (not a path type: a layer's name in this film).
+    static PathType keyOf(size_t g);
+
+  private:
+    std::vector<Partition> partitions_;
+    std::unique_ptr<BdptPasses> passes_;
+};
+
+/// The images of the per-pixel partitions from their film (a PerPixelPartitions' or the merged
+/// shards') after `spp` samples of every pixel: empty for a partition with chains.
+std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>& partitions,
+                                  uint64_t spp);
+
+/// The per-pixel variance of each partition's image from two independent one-sample films
+/// (samples `first` and first + 1 of every pixel): V_g = sum over pixels of (L0 - L1)^2 / 2,
+/// L the luminance of partition g's one-sample estimate (unbiased for independent samples; the
+/// image's own samples are stratified over pixels only, as these). Also the rays of one
+/// sample of every pixel. Partitions that are not per pixel get V_g = 0.
+struct PerPixelPilot {
+    std::vector<double> variance;
+    double raysPerSample = 0;
+    double secondsPerSample = 0;
+};
+PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
+                               uint64_t first, ProgressReporter& progress);
+
+}  // namespace partita
