@@ -12,6 +12,10 @@ namespace partita {
 namespace {
 
 constexpr uint64_t kPilotSalt = 1;
+/// A mutation budget's pilot at most this many mutations per pixel: enough for the halves'
+/// difference to show each partition's error (at 256x192, ~200000 mutations), while a share of
+/// a long job's budget would spend minutes on chains that are thrown away.
+constexpr double kMaxPilotMpp = 4;
 
 /// Splits each group g of `plan` in two: group 2g gets g's even chains, 2g + 1 its odd ones
 /// (the same b: two independent halves of the partition's estimate).
@@ -52,10 +56,11 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
     const size_t n = partitions.size();
     // The same share of the pilot for every partition: each one's error is measured alike.
     const double pixels = double(rs.width) * rs.height;
-    const uint64_t perPartition =
-        timed ? (uint64_t(1) << 40)
-              : std::max<uint64_t>(4 * s.minMutationsPerChain,
-                                   uint64_t(s.pilotShare * rs.budget * pixels / double(n)));
+    const double pilotMpp = std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
+    const uint64_t perPartition = timed
+                                      ? (uint64_t(1) << 40)
+                                      : std::max<uint64_t>(4 * s.minMutationsPerChain,
+                                                           uint64_t(pilotMpp * pixels / double(n)));
     const ChainPlan plan = intoHalves(planPartitionChains(
         ctx, sampler, prepass, partitions, std::vector<uint64_t>(n, perPartition), s, kPilotSalt));
     auto halfOf = [](uint32_t group) { return group / 2; };
@@ -72,8 +77,7 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
     const double secondsPerRay = runner.rays() > 0 ? chainSeconds / double(runner.rays()) : 0;
     out.rays += runner.rays();
     out.chainMutations = runner.mutationsDone();
-    out.mutationCost = out.chainMutations > 0 ? double(runner.rays()) /
-                                                    double(out.chainMutations) *
+    out.mutationCost = out.chainMutations > 0 ? double(runner.rays()) / double(out.chainMutations) *
                                                     (timed ? secondsPerRay : 1.0)
                                               : 0;
     double worst = 0;  // the largest measured v_g: for a partition whose halves did not both run
@@ -81,10 +85,11 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
         PartitionEffort& e = out.partitions[g];
         e.chainVariance = halvesVariance(runner, uint32_t(g));
         worst = std::max(worst, e.chainVariance);
-        const uint64_t done = runner.mutationsDone(int(2 * g)) + runner.mutationsDone(int(2 * g + 1));
+        const uint64_t done =
+            runner.mutationsDone(int(2 * g)) + runner.mutationsDone(int(2 * g + 1));
         const double rays = double(runner.rays(int(2 * g)) + runner.rays(int(2 * g + 1)));
-        e.mutationCost = done > 0 ? rays / double(done) * (timed ? secondsPerRay : 1.0)
-                                  : out.mutationCost;
+        e.mutationCost =
+            done > 0 ? rays / double(done) * (timed ? secondsPerRay : 1.0) : out.mutationCost;
     }
     for (PartitionEffort& e : out.partitions)
         if (e.chainVariance < 0) e.chainVariance = worst > 0 ? worst : 1.0;
@@ -108,16 +113,23 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
         out.partitions[g].b = partitions[g].b;
     }
     if (choice != EstimatorChoice::Chains) {
+        std::vector<PerPixelEstimator> estimators{PerPixelEstimator::Bdpt};
+        // A path tracer cannot reach a delta light through specular chains: bdpt only then.
+        std::string why;
+        if (choosePrepassEstimator(ctx.scene, "auto", why) == StartupEstimator::PathTracer)
+            estimators.push_back(PerPixelEstimator::PathTracer);
         const double pixels = double(ctx.settings.width) * ctx.settings.height;
-        ProgressReporter progress(ctx.observer, "pilot", "samples", 2 * pixels);
-        PerPixelPilot pilot =
-            runPerPixelPilot(ctx, partitions, kPerPixelPilotSample, progress);
+        ProgressReporter progress(ctx.observer, "pilot", "samples",
+                                  2 * pixels * double(estimators.size()));
+        for (PerPixelEstimator estimator : estimators) {
+            const PerPixelPilot pilot =
+                runPerPixelPilot(ctx, partitions, estimator, kPerPixelPilotSample, progress);
+            out.pixelPilots.push_back(
+                {estimator, pilot.variance, timed ? pilot.secondsPerSample : pilot.raysPerSample});
+            out.rays += uint64_t(2 * pilot.raysPerSample);
+            ctx.throwIfCancelled();
+        }
         progress.flush();
-        for (size_t g = 0; g < partitions.size(); ++g)
-            out.partitions[g].pixelVariance = pilot.variance[g];
-        out.pixelCost = timed ? pilot.secondsPerSample : pilot.raysPerSample;
-        out.rays += uint64_t(2 * pilot.raysPerSample);
-        ctx.throwIfCancelled();
     }
     if (choice != EstimatorChoice::PerPixel)
         chainPilot(ctx, sampler, prepass, partitions, mutations, restrictions, settings,

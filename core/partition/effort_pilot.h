@@ -1,7 +1,8 @@
 // The start-up's pilots that measure what each estimator would give a partition (issue #23 1, 3;
 // the formulas in effort_plan.h). Both are independent of the render's own samples and are not
 // part of its image:
-// - the per-pixel pilot: two samples of every pixel (per_pixel_partitions.h), V_g per partition;
+// - the per-pixel pilots: two samples of every pixel (per_pixel_partitions.h), V_g per partition,
+//   by BDPT and, in a scene without delta lights, by the path tracer;
 // - the chains' pilot: every partition's chains in two halves (groups 2g and 2g + 1, other
 //   starts and streams than the render's), for a share of the budget; the halves' difference
 //   gives the error of partition g's image after its m_g mutations, and v_g = that error
@@ -19,6 +20,7 @@
 #include "mcmc/chain_runner.h"
 #include "partition/effort_plan.h"
 #include "partition/partition.h"
+#include "partition/per_pixel_partitions.h"
 #include "partition/pipeline_settings.h"
 #include "partition/prepass.h"
 
@@ -26,9 +28,18 @@ namespace partita {
 
 class BootstrapSampler;
 
+/// One per-pixel estimator's pilot: V_g per partition and c_pp.
+struct PixelPilot {
+    PerPixelEstimator estimator = PerPixelEstimator::Bdpt;
+    std::vector<double> variance;
+    double cost = 0;
+};
+
 struct EffortMeasurement {
+    /// pixelVariance left 0: each per-pixel estimator's is in `pixelPilots`.
     std::vector<PartitionEffort> partitions;
-    double pixelCost = 0;     // c_pp: one sample of every pixel
+    /// bdpt's, then the path tracer's where it applies (no delta light).
+    std::vector<PixelPilot> pixelPilots;
     double mutationCost = 0;  // the mean cost of one pilot mutation over every partition
     double seconds = 0;       // both pilots
     uint64_t rays = 0;
@@ -36,9 +47,9 @@ struct EffortMeasurement {
 };
 
 /// Runs the pilots `choice` needs (none of the per-pixel one for "chains", none of the chains'
-/// for "per-pixel"). A time budget's chains' pilot runs for `pilotShare` of the time left before
-/// `deadline`'s budget end; a mutation budget's for pilotShare of its mutations, spread evenly
-/// over the partitions. Phase "pilot"; cancellable.
+/// for "per-pixel"). A time budget's chains' pilot runs for `pilotShare` of `secondsLeft`; a
+/// mutation budget's for pilotShare of its mutations (at most 4 per pixel), spread evenly over
+/// the partitions. Phase "pilot"; cancellable.
 EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
                                 const PrepassResult& prepass,
                                 const std::vector<Partition>& partitions,

@@ -97,8 +97,7 @@ std::string reasonOf(const PartitionEffort& e, double pixelCost, bool perPixel,
         std::sqrt(pixelCost * (otherPixelVariance + std::max(0.0, e.pixelVariance))) -
         std::sqrt(pixelCost * otherPixelVariance);
     char text[200];
-    std::snprintf(text, sizeof text,
-                  "%s: sqrt(error x cost) +%.3g per pixel, +%.3g with chains",
+    std::snprintf(text, sizeof text, "%s: sqrt(error x cost) +%.3g per pixel, +%.3g with chains",
                   perPixel ? "per pixel" : "chains", pixels, chains);
     return text;
 }
@@ -164,8 +163,7 @@ EffortPlan planEffort(const std::vector<PartitionEffort>& partitions, double pix
         for (size_t g = 0; g < n; ++g) {
             const double others =
                 pixelVariance - (plan.perPixel[g] ? std::max(0.0, partitions[g].pixelVariance) : 0);
-            plan.reason[g] =
-                reasonOf(partitions[g], pixelCost, plan.perPixel[g], others, choice);
+            plan.reason[g] = reasonOf(partitions[g], pixelCost, plan.perPixel[g], others, choice);
         }
     }
     plan.errorTimesCost =

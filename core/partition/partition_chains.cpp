@@ -69,5 +69,4 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
     return plan;
 }
 
-
 }  // namespace partita

@@ -107,6 +107,7 @@ struct PartitionedStart {
     uint64_t startupRays = 0;
     uint64_t perPixelSpp = 0;  // a mutation budget's per-pixel samples of every pixel
     double pixelShare = 0;     // a time budget's share of the time left for them
+    PerPixelEstimator pixelEstimator = PerPixelEstimator::Bdpt;
 
     bool anyPerPixel() const {
         for (const Partition& p : partitions)
@@ -123,11 +124,19 @@ ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& par
 }
 
 /// The pilots' measurements and the effort plan into the start's statistics.
-void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPlan& plan) {
+void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPlan& plan,
+                    double pixelCost) {
     st.values["pilot_seconds"] = m.seconds;
     st.values["pilot_rays"] = double(m.rays);
     st.values["pilot_mutations"] = double(m.chainMutations);
-    st.values["pixel_cost"] = m.pixelCost;
+    st.values["pixel_cost"] = pixelCost;
+    for (const PixelPilot& pilot : m.pixelPilots) {
+        const std::string name = perPixelEstimatorName(pilot.estimator);
+        st.values["pixel_cost_" + name] = pilot.cost;
+        double variance = 0;
+        for (double v : pilot.variance) variance += v;
+        st.values["pixel_variance_" + name] = variance;
+    }
     st.values["per_pixel_share"] = plan.pixelShare;
     st.values["predicted_error_x_cost"] = plan.errorTimesCost;
     for (size_t g = 0; g < m.partitions.size(); ++g) {
@@ -152,8 +161,8 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
     // A time budget has no mutation count: a nominal one only splits the chains' shares.
-    const uint64_t budget = timed ? (uint64_t(1) << 50)
-                                  : uint64_t(rs.budget * double(rs.width) * double(rs.height));
+    const uint64_t budget =
+        timed ? (uint64_t(1) << 50) : uint64_t(rs.budget * double(rs.width) * double(rs.height));
     const EstimatorChoice choice = parseEstimatorChoice(settings.estimators);
     const bool neyman = settings.allocation != "p";
     out.stats.labels["estimators"] = settings.estimators;
@@ -162,13 +171,29 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     if (partitions.empty() || !neyman)
         return allocateMutations(partitions, budget, settings.minMutationsPerChain);
 
-    const ChainRunner::MutationFactory factory =
-        mutations.factory(ctx, partitions, out.prepared);
-    const EffortMeasurement m = measureEffort(
-        ctx, sampler, prepass, partitions, factory, restrictionsOf(partitions), settings, choice,
-        timed ? rs.budget - secondsSince(start) : 0);
-    const EffortPlan plan = planEffort(m.partitions, m.pixelCost, choice, true);
-    addEffortStats(out.stats, m, plan);
+    const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, out.prepared);
+    EffortMeasurement m =
+        measureEffort(ctx, sampler, prepass, partitions, factory, restrictionsOf(partitions),
+                      settings, choice, timed ? rs.budget - secondsSince(start) : 0);
+    // The plan with each per-pixel estimator; the one of lower error x cost is used.
+    EffortPlan plan =
+        planEffort(m.partitions, 0,
+                   choice == EstimatorChoice::PerPixel ? EstimatorChoice::Chains : choice, true);
+    double pixelCost = 0;
+    bool planned = false;
+    for (const PixelPilot& pilot : m.pixelPilots) {
+        std::vector<PartitionEffort> with = m.partitions;
+        for (size_t g = 0; g < with.size(); ++g) with[g].pixelVariance = pilot.variance[g];
+        EffortPlan candidate = planEffort(with, pilot.cost, choice, true);
+        if (!planned || candidate.errorTimesCost < plan.errorTimesCost) {
+            plan = std::move(candidate);
+            pixelCost = pilot.cost;
+            out.pixelEstimator = pilot.estimator;
+            planned = true;
+        }
+    }
+    addEffortStats(out.stats, m, plan, pixelCost);
+    out.stats.labels["per_pixel_estimator"] = perPixelEstimatorName(out.pixelEstimator);
     out.startupRays += m.rays;
     bool anyPixel = false;
     for (size_t g = 0; g < partitions.size(); ++g) {
@@ -203,8 +228,8 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
             c > 0 ? uint64_t(std::llround(plan.chainShare[g] * cost / c)) : budget);
     }
     if (anyPixel) {
-        const double spp = cost > 0 && m.pixelCost > 0 ? std::ceil(plan.pixelShare * cost / m.pixelCost)
-                                                       : rs.budget;
+        const double spp =
+            cost > 0 && pixelCost > 0 ? std::ceil(plan.pixelShare * cost / pixelCost) : rs.budget;
         out.perPixelSpp = uint64_t(std::clamp(spp, 1.0, double(uint64_t(1) << 20)));
     }
     return perPartition;
@@ -310,6 +335,7 @@ std::vector<uint8_t> serializeStart(const PartitionedStart& s) {
     w.put(s.startupRays);
     w.put(s.perPixelSpp);
     w.put(s.pixelShare);
+    w.put(uint8_t(s.pixelEstimator));
     return std::move(w.bytes);
 }
 
@@ -335,6 +361,9 @@ PartitionedStart deserializeStart(std::span<const uint8_t> bytes) {
     s.startupRays = r.get<uint64_t>();
     s.perPixelSpp = r.get<uint64_t>();
     s.pixelShare = r.get<double>();
+    const uint8_t estimator = r.get<uint8_t>();
+    if (estimator > uint8_t(PerPixelEstimator::PathTracer)) r.fail("unknown per-pixel estimator");
+    s.pixelEstimator = PerPixelEstimator(estimator);
     if (!r.atEnd()) r.fail("trailing bytes");
     return s;
 }
@@ -371,7 +400,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     const RenderSettings& rs = ctx.settings;
     const double pixels = double(rs.width) * rs.height;
     auto begin = Clock::now();
-    out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions);
+    out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
     if (rs.budgetKind != BudgetKind::Seconds) {
         ProgressReporter progress(ctx.observer, "render", "samples",
                                   double(st.perPixelSpp) * pixels);
@@ -451,7 +480,8 @@ std::vector<uint8_t> PartitionedShards::plan(const RenderContext& ctx) {
 uint32_t PartitionedShards::maxShards(const RenderContext&, std::span<const uint8_t> plan) const {
     // Every shard gets a chain; with no chain at all, a per-pixel sample.
     const PartitionedStart st = deserializeStart(plan);
-    if (!st.plan.chains.empty()) return uint32_t(std::min<size_t>(st.plan.chains.size(), UINT32_MAX));
+    if (!st.plan.chains.empty())
+        return uint32_t(std::min<size_t>(st.plan.chains.size(), UINT32_MAX));
     return uint32_t(std::clamp<uint64_t>(st.perPixelSpp, 1, UINT32_MAX));
 }
 
@@ -465,7 +495,7 @@ ShardWork PartitionedShards::renderShard(const RenderContext& ctx, std::span<con
                                    restrictionsOf(st.partitions), settings_.roundMutations);
     if (!st.anyPerPixel()) return work;
     // The per-pixel partitions' film comes last: this shard's range of their samples.
-    PerPixelPartitions pixels(ctx, st.partitions);
+    PerPixelPartitions pixels(ctx, st.partitions, st.pixelEstimator);
     const ShareRange range = shareRange(st.perPixelSpp, shards, shard);
     const double pixelCount = double(ctx.settings.width) * ctx.settings.height;
     ProgressReporter progress(ctx.observer, "render", "samples",

@@ -4,6 +4,7 @@
 
 #include "clock.h"
 #include "integrators/bdpt/bdpt_passes.h"
+#include "integrators/pt/pt_integrator.h"
 #include "progress_reporter.h"
 
 namespace partita {
@@ -25,8 +26,13 @@ TypeLayers keysOf(const std::vector<Partition>& partitions) {
 
 }  // namespace
 
+const char* perPixelEstimatorName(PerPixelEstimator e) {
+    return e == PerPixelEstimator::PathTracer ? "pt" : "bdpt";
+}
+
 PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
-                                       const std::vector<Partition>& partitions)
+                                       const std::vector<Partition>& partitions,
+                                       PerPixelEstimator estimator)
     : partitions_(partitions) {
     // The partition of a contribution's type, if it is estimated here: its key; else dropped.
     auto key = [this](PathType& type) {
@@ -38,7 +44,10 @@ PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
         }
         return false;
     };
-    passes_ = std::make_unique<BdptPasses>(ctx, BdptSettings{}, keysOf(partitions_), key);
+    if (estimator == PerPixelEstimator::PathTracer)
+        passes_ = makeRestrictedPathTracerPasses(ctx, keysOf(partitions_), key);
+    else
+        passes_ = std::make_unique<BdptPasses>(ctx, BdptSettings{}, keysOf(partitions_), key);
 }
 
 PerPixelPartitions::~PerPixelPartitions() = default;
@@ -63,21 +72,24 @@ std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>
 }
 
 std::vector<Image> PerPixelPartitions::images(uint64_t spp) const {
-    return perPixelImages(passes_->filmRef(), partitions_, spp);
+    return perPixelImages(passes_->film(), partitions_, spp);
 }
 
-const Film& PerPixelPartitions::film() const { return passes_->filmRef(); }
 Film PerPixelPartitions::takeFilm() { return passes_->takeFilm(); }
-uint64_t PerPixelPartitions::rays() const { return passes_->rays(); }
 
-void PerPixelPartitions::merge(const Film& other) { passes_->absorb(other); }
+uint64_t PerPixelPartitions::rays() const {
+    RenderStats stats;
+    passes_->addStats(stats, 0);
+    return uint64_t(stats.values["rays"]);
+}
 
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
-                               uint64_t first, ProgressReporter& progress) {
+                               PerPixelEstimator estimator, uint64_t first,
+                               ProgressReporter& progress) {
     auto begin = Clock::now();
     std::vector<Partition> all = partitions;
     for (Partition& p : all) p.perPixel = true;
-    PerPixelPartitions a(ctx, all), b(ctx, all);
+    PerPixelPartitions a(ctx, all, estimator), b(ctx, all, estimator);
     a.renderPass({first, first + 1}, progress);
     b.renderPass({first + 1, first + 2}, progress);
     const std::vector<Image> ia = a.images(1), ib = b.images(1);

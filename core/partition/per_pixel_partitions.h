@@ -1,6 +1,8 @@
 // The partitions estimated per pixel (issue #23 1): instead of chains, a partition may be
-// integrated by stratified BDPT samples (integrators/bdpt/bdpt_passes.h) restricted to its types.
-// One BDPT sample of a pixel estimates every per-pixel partition at once: each contribution goes
+// integrated by per-pixel samples restricted to its types: BDPT's (integrators/bdpt/
+// bdpt_passes.h) or, in a scene without delta lights (which a path tracer cannot reach through
+// specular chains), the path tracer's (cheaper per sample: on cornell-glass 7x). One sample
+// of a pixel estimates every per-pixel partition at once: each contribution goes
 // to the partition that holds its type, or is dropped when that partition has chains. MIS stays
 // exact under the restriction (a path's strategies all give it the same type), so partition g's
 // image converges to the full image's layers of g's types, and the chain partitions and the
@@ -23,12 +25,16 @@
 
 namespace partita {
 
-class BdptPasses;
+class SamplePassRenderer;
+
+enum class PerPixelEstimator : uint8_t { Bdpt = 0, PathTracer = 1 };
+const char* perPixelEstimatorName(PerPixelEstimator e);
 
 class PerPixelPartitions {
   public:
     /// Estimates the partitions with `perPixel` set (the others' contributions are dropped).
-    PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions);
+    PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions,
+                       PerPixelEstimator estimator);
     ~PerPixelPartitions();
 
     /// Samples [range.first, range.end) of every pixel, on ctx's pool; advances `progress` by
@@ -37,10 +43,7 @@ class PerPixelPartitions {
     /// Partition g's image after `spp` samples per pixel: empty when g has chains, black when no
     /// sample reached it.
     std::vector<Image> images(uint64_t spp) const;
-    const Film& film() const;
     Film takeFilm();
-    /// Adds a film of the same partitions (another shard's samples).
-    void merge(const Film& other);
     uint64_t rays() const;
 
     /// The film key of partition g (not a path type: a layer's name in this film).
@@ -48,7 +51,7 @@ class PerPixelPartitions {
 
   private:
     std::vector<Partition> partitions_;
-    std::unique_ptr<BdptPasses> passes_;
+    std::unique_ptr<SamplePassRenderer> passes_;
 };
 
 /// The images of the per-pixel partitions from their film (a PerPixelPartitions' or the merged
@@ -67,6 +70,7 @@ struct PerPixelPilot {
     double secondsPerSample = 0;
 };
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
-                               uint64_t first, ProgressReporter& progress);
+                               PerPixelEstimator estimator, uint64_t first,
+                               ProgressReporter& progress);
 
 }  // namespace partita

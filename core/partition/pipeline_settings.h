@@ -72,8 +72,9 @@ void addPipelineParameters(SettingsTable<S>& t) {
               .withChoices({"neyman", "p"}),
           &PartitionPipelineSettings::allocation);
     t.add(ParameterSpec("pilot_share",
-                        "the chains' pilot's share of the budget (mutations, or the time after "
-                        "the pre-pass); its chains are not part of the image")
+                        "the chains' pilot's share of the budget (mutations, at most 4 per "
+                        "pixel, or the time after the pre-pass); its chains are not part of the "
+                        "image")
               .within(0.001, 0.5),
           &PartitionPipelineSettings::pilotShare);
 }

@@ -109,17 +109,34 @@ inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
     return out;
 }
 
+/// How many partitions (over all seeds) had chains and how many were estimated per pixel.
+struct EstimatorCounts {
+    int chains = 0, perPixel = 0;
+};
+
 /// Each partition's image (and the combined one) against the BDPT reference of its types, per
 /// block, over independent seeds. The partitions are those of the render's own pre-pass, which
 /// are the same for every seed only if the ranking is stable: the test compares by label.
-inline void expectPartitionsConverge(const std::string& algorithm, const std::string& sceneName,
-                                     double mpp, double spp, int seeds) {
+/// `estimators` and `allocation` are the pipeline's parameters (empty: the defaults).
+inline EstimatorCounts expectPartitionsConverge(const std::string& algorithm,
+                                                const std::string& sceneName, double mpp,
+                                                double spp, int seeds,
+                                                const std::string& estimators = "",
+                                                const std::string& allocation = "") {
+    EstimatorCounts counts;
     RenderScene scene = loadScene(sceneName);
     std::map<std::string, std::vector<std::vector<double>>> mine, reference;
     for (int seed = 0; seed < seeds; ++seed) {
         RenderSettings st = tinySettings(mpp, 10 + uint64_t(seed), BudgetKind::MutationsPerPixel);
         st.parameters.set("k", 4);
+        if (!estimators.empty()) st.parameters.set("estimators", estimators);
+        if (!allocation.empty()) st.parameters.set("allocation", allocation);
         RenderResult r = test::renderWith(scene, algorithm, st);
+        for (int g = 0; g < int(r.stats.values["partitions"]); ++g) {
+            const std::string kind =
+                r.stats.labels["partition_" + std::to_string(g) + "_estimator"];
+            ++(kind == "per-pixel" ? counts.perPixel : counts.chains);
+        }
         LayeredImage bdpt =
             test::renderWith(scene, "bdpt",
                              tinySettings(spp, 600 + uint64_t(seed), BudgetKind::SamplesPerPixel))
@@ -129,7 +146,8 @@ inline void expectPartitionsConverge(const std::string& algorithm, const std::st
         std::vector<Partition> partitions = partitionsOfRender(r);
         for (const Partition& p : partitions) {
             const Image* layer = r.image.layer(p.label);
-            ASSERT_NE(layer, nullptr) << p.label;
+            EXPECT_NE(layer, nullptr) << p.label;
+            if (!layer) return counts;
             mine[p.label].push_back(blocks(*layer));
             reference[p.label].push_back(blocks(partitionReference(bdpt, p)));
         }
@@ -151,6 +169,7 @@ inline void expectPartitionsConverge(const std::string& algorithm, const std::st
         }
     }
     EXPECT_GE(mine.size(), 4u);
+    return counts;
 }
 
 }  // namespace partita::partitioned_test

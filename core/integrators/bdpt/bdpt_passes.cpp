@@ -89,8 +89,7 @@ void BdptPasses::renderTile(int x0, int y0, int x1, int y1, SampleRange range, T
 }
 
 void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
-                              Connector& connector, Scratch& scratch,
-                              std::vector<Splat>& splats) {
+                              Connector& connector, Scratch& scratch, std::vector<Splat>& splats) {
     Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), sample);
     Vec2f u{rng.nextFloat(), rng.nextFloat()};
     Ray primary = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
@@ -104,9 +103,9 @@ void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
             if (s + t < 2 || s + t - 2 > maxDepth || !wanted(s, t)) continue;
             // s = 1 with t > 1 samples its own light vertex; every other s needs the subpath.
             if (s > lightCount && !(s == 1 && t > 1)) continue;
-            StrategySample c = connector.connect(scratch.camera, scratch.light, s, t, rng,
-                                                 scratch.rays, settings_.weighted,
-                                                 settings_.heuristic);
+            StrategySample c =
+                connector.connect(scratch.camera, scratch.light, s, t, rng, scratch.rays,
+                                  settings_.weighted, settings_.heuristic);
             if (!c.valid || c.weight <= 0) continue;
             if (key_ && !key_(c.type)) continue;
             Rgb value = c.value * c.weight;

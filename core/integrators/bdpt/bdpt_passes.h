@@ -17,6 +17,7 @@
 #include "algorithm.h"
 #include "film.h"
 #include "integrators/bdpt/bdpt_settings.h"
+#include "integrators/contribution_key.h"
 #include "integrators/sample_passes.h"
 #include "path/random_walk.h"
 #include "splat_buffer.h"
@@ -27,15 +28,6 @@ class Connector;
 
 class BdptPasses : public SamplePassRenderer {
   public:
-    /// Which contributions the film keeps, and under which key: given a contribution's path
-    /// type, returns false to drop it, or true and (optionally) rewrites the type into the key
-    /// its film adds it under. Empty: every contribution, under its own type.
-    ///
-    /// A restriction to a set of types keeps MIS exact: every strategy that can make a path makes
-    /// it with the same type, so the weights of the strategies of a kept path still sum to one
-    /// (the restricted image is the full image's layers of those types).
-    using ContributionKey = std::function<bool(PathType&)>;
-
     BdptPasses(const RenderContext& ctx, const BdptSettings& settings, const TypeLayers& layers,
                ContributionKey key = {});
 
@@ -48,9 +40,6 @@ class BdptPasses : public SamplePassRenderer {
     LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override;
     Film film() const override;
     Film takeFilm() override { return std::move(film_); }
-    const Film& filmRef() const { return film_; }
-    /// Adds another film of the same size and layers (another shard's samples).
-    void absorb(const Film& other) { film_.merge(other); }
     void addStats(RenderStats& st, double seconds) const override;
     /// Splats are held for a batch of a pass: keep a pass to about 2^18 pixel samples.
     uint64_t maxPassSamples() const override;

@@ -26,8 +26,8 @@ namespace {
 
 class PathTracerPasses : public SamplePassRenderer {
   public:
-    PathTracerPasses(const RenderContext& ctx, const TypeLayers& layers)
-        : ctx_(ctx), film_(ctx.settings.width, ctx.settings.height, layers) {
+    PathTracerPasses(const RenderContext& ctx, const TypeLayers& layers, ContributionKey key = {})
+        : ctx_(ctx), key_(std::move(key)), film_(ctx.settings.width, ctx.settings.height, layers) {
         samplerSettings_.maxDepth = ctx.settings.maxDepth;
     }
 
@@ -82,7 +82,8 @@ class PathTracerPasses : public SamplePassRenderer {
     /// how pixels are grouped.
     void renderPixelRun(int x, int y, int n, SampleRange range, PathCounters& counters) {
         std::array<std::optional<FilmSink>, kPacketWidth> sinks;
-        for (int i = 0; i < n; ++i) sinks[size_t(i)].emplace(film_, x + i, y);
+        for (int i = 0; i < n; ++i)
+            sinks[size_t(i)].emplace(film_, x + i, y, key_ ? &key_ : nullptr);
         std::array<Rng, kPacketWidth> rngs;
         std::array<Ray, kPacketWidth> rays;
         std::array<SurfaceHit, kPacketWidth> hits;
@@ -106,6 +107,7 @@ class PathTracerPasses : public SamplePassRenderer {
     }
 
     const RenderContext& ctx_;
+    ContributionKey key_;
     Film film_;
     PathSamplerSettings samplerSettings_;
     std::atomic<uint64_t> rays_{0};
@@ -117,6 +119,12 @@ std::unique_ptr<SamplePassRenderer> makePathTracerPasses(const RenderContext& ct
 }
 
 }  // namespace
+
+std::unique_ptr<SamplePassRenderer> makeRestrictedPathTracerPasses(const RenderContext& ctx,
+                                                                   const TypeLayers& layers,
+                                                                   ContributionKey key) {
+    return std::make_unique<PathTracerPasses>(ctx, layers, std::move(key));
+}
 
 PathTracerAlgorithm::PathTracerAlgorithm() = default;
 PathTracerAlgorithm::~PathTracerAlgorithm() = default;

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "algorithm.h"
+#include "integrators/contribution_key.h"
 #include "math/vec.h"
 #include "rng.h"
 
@@ -24,6 +25,15 @@ inline Rng pixelSampleRng(uint64_t seed, int x, int y, int width, uint64_t sampl
     uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
     return Rng(seed, pixelSampleStream(pixel, sampleIndex));
 }
+
+class SamplePassRenderer;
+class TypeLayers;
+
+/// The path tracer's passes over a film keeping `layers`, only the contributions `key` keeps
+/// (integrators/contribution_key.h): the per-pixel partitions' estimator.
+std::unique_ptr<SamplePassRenderer> makeRestrictedPathTracerPasses(const RenderContext& ctx,
+                                                                   const TypeLayers& layers,
+                                                                   ContributionKey key);
 
 class PathTracerAlgorithm : public Algorithm {
   public:

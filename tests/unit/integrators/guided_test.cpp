@@ -18,14 +18,16 @@ namespace {
 using namespace partitioned_test;
 
 TEST(Guided, PartitionsConvergeOnCornellGlass) {
-    expectPartitionsConverge("guided", "cornell-glass", 64, 64, 10);
+    expectPartitionsConverge("guided", "cornell-glass", 64, 64, 10, "chains");
 }
 
 TEST(Guided, PartitionsConvergeOnDoorAjar) {
-    expectPartitionsConverge("guided", "door-ajar", 64, 64, 10);
+    expectPartitionsConverge("guided", "door-ajar", 64, 64, 10, "chains");
 }
 
-TEST(Guided, PartitionsConvergeOnPool) { expectPartitionsConverge("guided", "pool", 64, 64, 10); }
+TEST(Guided, PartitionsConvergeOnPool) {
+    expectPartitionsConverge("guided", "pool", 64, 64, 10, "chains");
+}
 
 TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {
     RenderScene scene = loadScene("cornell-glass");

@@ -37,6 +37,7 @@ struct Case {
     const char* algorithm;
     BudgetKind kind;
     double budget;
+    const char* estimators = nullptr;  // partitioned's and guided's (default: auto)
 };
 
 RenderSettings settingsOf(const Case& c) {
@@ -49,6 +50,7 @@ RenderSettings settingsOf(const Case& c) {
     s.previewIntervalSeconds = 0;
     s.maxTypeLayers = 4;  // bounded type layers (issue #24): far fewer than the scene's types
     if (!registeredAlgorithm(c.algorithm).parameters.empty()) s.parameters.set("bootstrap", 4000);
+    if (c.estimators) s.parameters.set("estimators", std::string(c.estimators));
     return s;
 }
 
@@ -95,8 +97,15 @@ INSTANTIATE_TEST_SUITE_P(Algorithms, ShardedRender,
                                          Case{"bdpt", BudgetKind::SamplesPerPixel, 7},
                                          Case{"mlt", BudgetKind::MutationsPerPixel, 6},
                                          Case{"partitioned", BudgetKind::MutationsPerPixel, 6},
+                                         // Every partition per pixel: shards split the samples.
+                                         Case{"partitioned", BudgetKind::MutationsPerPixel, 9,
+                                              "per-pixel"},
                                          Case{"guided", BudgetKind::MutationsPerPixel, 6}),
-                         [](const auto& info) { return std::string(info.param.algorithm); });
+                         [](const auto& info) {
+                             std::string name = info.param.algorithm;
+                             if (info.param.estimators) name += "_per_pixel";
+                             return name;
+                         });
 
 TEST(ShardedRender, BdptSplatBatchesOfALargeImageAreTheSameForAnyThreadsAndShards) {
     // bdpt adds its light-tracing splats batch by batch (256 tiles); an image of more tiles than
