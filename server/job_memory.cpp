@@ -176,13 +176,26 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
     if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s, pixels);
     double mltBytes = mlt.bootstrap + mlt.chains;
+    // Partitions estimated per pixel (partition/per_pixel_partitions.h, unless every partition
+    // has chains): the per-pixel estimator's film (the combined sums and one a per-pixel
+    // partition) and, before it, the pilots' two one-sample films of every partition and the
+    // chains' pilot's two halves of each (partition/effort_pilot.h): 2 (K + 2) sums a pixel at
+    // most; and bdpt's splats, the per-pixel estimator it may be.
+    double perPixel = 0;
+    if (hasPartitions(algorithm)) {
+        const PartitionedSettings p = partitionedParameters().resolve(s.parameters);
+        if (p.estimators != "chains")
+            perPixel = padded * kSum * 2 * (partitions + 1) + bdptExtraBytes(pixels);
+        else if (p.allocation != "p")  // the chains' pilot alone: two halves a partition
+            perPixel = padded * kSum * 2 * partitions;
+    }
     double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
     // An environment image while it loads: the decoded channels (4 B each), its RGB copy and
     // the map's importance tables (environment_map.h: 12 + 8 B a pixel).
     double sky = double(environment.pixels()) * (4.0 * environment.channels + 20);
     MemoryEstimate e;
-    e.bytes = uint64_t(film + images + parts + splats + survey + mltBytes + guides + scene + sky +
-                       kBaseline);
+    e.bytes = uint64_t(film + images + parts + splats + survey + mltBytes + perPixel + guides +
+                       scene + sky + kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s (%d type buffers), %d layers %s", s.width,
                   s.height, films, films == 1 ? "" : "s", humanBytes(film).c_str(), typeLayers,
@@ -195,6 +208,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (mltBytes > 0)
         e.breakdown += (hasPartitions(algorithm) ? ", pre-pass records " : ", mlt bootstrap ") +
                        humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains);
+    if (perPixel > 0) e.breakdown += ", pilots and per-pixel partitions " + humanBytes(perPixel);
     if (guides > 0) e.breakdown += ", guides " + humanBytes(guides);
     e.breakdown += ", scene " + humanBytes(scene);
     if (sky > 0) e.breakdown += ", environment " + humanBytes(sky);

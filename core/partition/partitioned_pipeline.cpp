@@ -164,7 +164,9 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     const uint64_t budget =
         timed ? (uint64_t(1) << 50) : uint64_t(rs.budget * double(rs.width) * double(rs.height));
     const EstimatorChoice choice = parseEstimatorChoice(settings.estimators);
-    const bool neyman = settings.allocation != "p";
+    // Eq. 10 is the paper's allocation of chains' mutations: with per-pixel estimators the
+    // budget is split by the rule.
+    const bool neyman = settings.allocation != "p" || choice != EstimatorChoice::Chains;
     out.stats.labels["estimators"] = settings.estimators;
     out.stats.labels["allocation"] = neyman ? "neyman" : "p";
     std::vector<Partition>& partitions = out.partitions;
@@ -454,13 +456,17 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     auto imageOf = [&](uint32_t g) {
         return partitions[g].perPixel ? pixelImages[g] : runner.resolveGroupCombined(g);
     };
-    runChainsWithPreviews(
-        ctx, runner, st.plan, startupSeconds,
-        [&](ThreadPool*) { return resolvePartitions(imageOf, partitions, rs.width, rs.height); },
-        [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
-        [&](ProgressReporter& progress) {
-            progress.setPartitions(partitionProgress(partitions, runner));
-        });
+    // Every partition per pixel: no chains' phase (its progress would be an empty one).
+    if (!st.plan.chains.empty())
+        runChainsWithPreviews(
+            ctx, runner, st.plan, startupSeconds,
+            [&](ThreadPool*) {
+                return resolvePartitions(imageOf, partitions, rs.width, rs.height);
+            },
+            [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
+            [&](ProgressReporter& progress) {
+                progress.setPartitions(partitionProgress(partitions, runner));
+            });
 
     RenderResult result;
     result.image = resolvePartitions(imageOf, partitions, rs.width, rs.height);

@@ -18,8 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::regex kHeader(R"(^  partition +P\(i\) +b_i +acc$)");
-const std::regex kPartitionRow(R"(^  (\S+) +([01]\.\d{3}) +\d\.\d{3}e[+-]\d{2} +[01]\.\d{2}$)");
+const std::regex kHeader(R"(^  partition +P\(i\) +b_i +estimator +acc$)");
+const std::regex kPartitionRow(
+    R"(^  (\S+) +([01]\.\d{3}) +\d\.\d{3}e[+-]\d{2} +(chains +[01]\.\d{2}|per-pixel +-)$)");
 
 /// Checks every move up of a transcript: "\r ESC[nA ESC[J", from the bar's line back to the
 /// first line of the table drawn last, n being the lines written since that table's header (its
@@ -167,9 +168,9 @@ TEST(ProgressBarTerminal, TheFirstTableReplacesTheBarDrawnBeforeIt) {
     const auto lines = terminal.lines();
     const std::vector<std::string> expected = {
         "above",
-        "  partition     P(i)        b_i    acc",
-        "  LDE          0.500  1.000e-02   0.25",
-        "  complement   0.500  2.000e-02   0.25",
+        "  partition     P(i)        b_i  estimator    acc",
+        "  LDE          0.500  1.000e-02  chains      0.25",
+        "  complement   0.500  2.000e-02  chains      0.25",
         "render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50",
         "below"};
     EXPECT_EQ(lines, expected) << show(lines);
@@ -200,10 +201,10 @@ TEST(ProgressBarTerminal, TheTableGrowsAndShrinksInPlace) {
     // last table and bar stay.
     const std::vector<std::string> expected = {
         "above",
-        "  partition     P(i)        b_i    acc",
-        "  LDE          0.333  1.000e-02   0.25",
-        "  LDSE         0.333  2.000e-02   0.25",
-        "  complement   0.333  3.000e-02   0.25",
+        "  partition     P(i)        b_i  estimator    acc",
+        "  LDE          0.333  1.000e-02  chains      0.25",
+        "  LDSE         0.333  2.000e-02  chains      0.25",
+        "  complement   0.333  3.000e-02  chains      0.25",
         "render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50",
         "below"};
     EXPECT_EQ(lines, expected) << show(lines);
@@ -234,10 +235,10 @@ TEST(ProgressBarTerminal, ANarrowTerminalCutsTheRowsInsteadOfWrappingThem) {
         };
         const std::vector<std::string> expected = {
             "above",
-            cut("  partition     P(i)        b_i    acc"),
-            cut("  LDE          0.333  1.000e-02   0.25"),
-            cut("  LDSE         0.333  2.000e-02   0.25"),
-            cut("  complement   0.333  3.000e-02   0.25"),
+            cut("  partition     P(i)        b_i  estimator    acc"),
+            cut("  LDE          0.333  1.000e-02  chains      0.25"),
+            cut("  LDSE         0.333  2.000e-02  chains      0.25"),
+            cut("  complement   0.333  3.000e-02  chains      0.25"),
             cut("render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50"),
             "below"};
         EXPECT_EQ(lines, expected) << columns << "\n" << show(lines);
@@ -264,11 +265,11 @@ TEST(ProgressBarTerminal, AShortTerminalShowsTheTableThatFitsAboveTheBar) {
     const auto lines = terminal.lines();
     const std::vector<std::string> expected = {
         "above",
-        "  partition     P(i)        b_i    acc",
-        "  LDE          0.100  1.000e-02   0.25",
-        "  LDSE         0.100  2.000e-02   0.25",
+        "  partition     P(i)        b_i  estimator    acc",
+        "  LDE          0.100  1.000e-02  chains      0.25",
+        "  LDSE         0.100  2.000e-02  chains      0.25",
         "  ... 7 more",
-        "  complement   0.100  1.000e-01   0.25",
+        "  complement   0.100  1.000e-01  chains      0.25",
         "render   [################] 100.0%  1.2 kmutations/s  ETA 1.0s  acc lens 0.50",
         "below"};
     EXPECT_EQ(lines, expected) << show(lines);

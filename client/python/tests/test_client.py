@@ -195,7 +195,8 @@ class ClientTest(unittest.TestCase):
         self.assertTrue(guided.parameters["width"].shared)
         self.assertEqual([p.name for p in guided.own_parameters()],
                          ["k", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
-                          "large_step_rate", "y", "radius", "epsilon"])
+                          "estimators", "allocation", "pilot_share", "large_step_rate", "y",
+                          "radius", "epsilon"])
         self.assertEqual(algorithms["pt"].own_parameters(), [])
 
     def test_submit_checks_parameter_names_before_sending(self):

@@ -100,11 +100,11 @@ TEST(Partitioned, BiAgreesWithAnIndependentEstimatePerPartition) {
     }
 }
 
-/// The default (issue #23 1): each partition by the estimator its pilots choose; the mixture of
+/// `auto` (issue #23 1): each partition by the estimator its pilots choose; the mixture of
 /// chain and per-pixel partitions converges partition by partition and combined.
 TEST(Partitioned, PartitionsConvergeOnCornellGlass) {
     const EstimatorCounts counts =
-        expectPartitionsConverge("partitioned", "cornell-glass", 64, 64, 10);
+        expectPartitionsConverge("partitioned", "cornell-glass", 64, 64, 10, "auto");
     EXPECT_GT(counts.chains, 0);
     EXPECT_GT(counts.perPixel, 0);
 }
