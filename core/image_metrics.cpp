@@ -84,6 +84,16 @@ double rmse(const Image& x, const Image& ref) {
 
 double relMse(const Image& x, const Image& ref) { return meanSquaredError(x, ref, relWeight); }
 
+double luminanceSquaredDifference(const Image& a, const Image& b) {
+    double sum = 0;
+    for (size_t i = 0; i + 2 < a.rgb.size() && i + 2 < b.rgb.size(); i += 3) {
+        const double d = double(luminance(Rgb(a.rgb[i], a.rgb[i + 1], a.rgb[i + 2]))) -
+                         double(luminance(Rgb(b.rgb[i], b.rgb[i + 1], b.rgb[i + 2])));
+        sum += d * d;
+    }
+    return sum;
+}
+
 std::vector<LayerError> compareLayers(const LayeredImage& x, const LayeredImage& ref) {
     std::vector<LayerError> out;
     out.push_back(

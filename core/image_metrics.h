@@ -24,6 +24,9 @@ inline constexpr double kRelMseEpsilon = 1e-2;
 /// Both images must have one size (std::invalid_argument naming both otherwise); 0 for no pixels.
 double rmse(const Image& x, const Image& ref);
 double relMse(const Image& x, const Image& ref);
+/// Sum over pixels of (luminance of a - luminance of b)^2, in pixel order (deterministic): the
+/// spread of two independent estimates of one image (the pilots' variances). Same-size images.
+double luminanceSquaredDifference(const Image& a, const Image& b);
 
 struct LayerError {
     std::string layer;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "image_metrics.h"
 #include "mcmc/bootstrap.h"
 #include "partition/partition_chains.h"
 #include "partition/per_pixel_partitions.h"
@@ -35,13 +36,8 @@ ChainPlan intoHalves(ChainPlan plan) {
 double halvesVariance(const ChainRunner& runner, uint32_t g) {
     const uint64_t ma = runner.mutationsDone(int(2 * g)), mb = runner.mutationsDone(int(2 * g + 1));
     if (ma == 0 || mb == 0) return -1;
-    const Image a = runner.resolveGroupCombined(2 * g), b = runner.resolveGroupCombined(2 * g + 1);
-    double sum = 0;  // in pixel order: deterministic
-    for (size_t i = 0; i + 2 < a.rgb.size(); i += 3) {
-        const double d = double(luminance(Rgb(a.rgb[i], a.rgb[i + 1], a.rgb[i + 2]))) -
-                         double(luminance(Rgb(b.rgb[i], b.rgb[i + 1], b.rgb[i + 2])));
-        sum += d * d;
-    }
+    const double sum = luminanceSquaredDifference(runner.resolveGroupCombined(2 * g),
+                                                  runner.resolveGroupCombined(2 * g + 1));
     return sum / (1.0 / double(ma) + 1.0 / double(mb));
 }
 

@@ -177,21 +177,19 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     EffortMeasurement m =
         measureEffort(ctx, sampler, prepass, partitions, factory, restrictionsOf(partitions),
                       settings, choice, timed ? rs.budget - secondsSince(start) : 0);
-    // The plan with each per-pixel estimator; the one of lower error x cost is used.
-    EffortPlan plan =
-        planEffort(m.partitions, 0,
-                   choice == EstimatorChoice::PerPixel ? EstimatorChoice::Chains : choice, true);
+    // The plan with each per-pixel estimator piloted, the one of lower error x cost (none
+    // piloted: chains only).
+    EffortPlan plan = planEffort(m.partitions, 0, choice, true);
     double pixelCost = 0;
-    bool planned = false;
-    for (const PixelPilot& pilot : m.pixelPilots) {
+    for (size_t i = 0; i < m.pixelPilots.size(); ++i) {
+        const PixelPilot& pilot = m.pixelPilots[i];
         std::vector<PartitionEffort> with = m.partitions;
         for (size_t g = 0; g < with.size(); ++g) with[g].pixelVariance = pilot.variance[g];
         EffortPlan candidate = planEffort(with, pilot.cost, choice, true);
-        if (!planned || candidate.errorTimesCost < plan.errorTimesCost) {
+        if (i == 0 || candidate.errorTimesCost < plan.errorTimesCost) {
             plan = std::move(candidate);
             pixelCost = pilot.cost;
             out.pixelEstimator = pilot.estimator;
-            planned = true;
         }
     }
     addEffortStats(out.stats, m, plan, pixelCost);

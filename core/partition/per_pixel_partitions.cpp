@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "clock.h"
+#include "image_metrics.h"
 #include "integrators/bdpt/bdpt_passes.h"
 #include "integrators/pt/pt_integrator.h"
 #include "progress_reporter.h"
@@ -95,16 +96,8 @@ PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Parti
     const std::vector<Image> ia = a.images(1), ib = b.images(1);
     PerPixelPilot out;
     out.variance.assign(partitions.size(), 0);
-    for (size_t g = 0; g < partitions.size(); ++g) {
-        double sum = 0;  // in pixel order: deterministic
-        for (size_t i = 0; i + 2 < ia[g].rgb.size(); i += 3) {
-            const double d =
-                double(luminance(Rgb(ia[g].rgb[i], ia[g].rgb[i + 1], ia[g].rgb[i + 2]))) -
-                double(luminance(Rgb(ib[g].rgb[i], ib[g].rgb[i + 1], ib[g].rgb[i + 2])));
-            sum += d * d;
-        }
-        out.variance[g] = sum / 2;
-    }
+    for (size_t g = 0; g < partitions.size(); ++g)
+        out.variance[g] = luminanceSquaredDifference(ia[g], ib[g]) / 2;
     out.raysPerSample = double(a.rays() + b.rays()) / 2;
     out.secondsPerSample = secondsSince(begin) / 2;
     return out;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "image_metrics.h"
 #include "integrators/pt/pt_integrator.h"
 #include "light_emission.h"
 #include "path/connection.h"
@@ -189,13 +190,7 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
     second.renderPass({1, 2}, progress);
     const Image a = out.renderer->film().resolveCombined(1.0f);
     const Image b = second.film().resolveCombined(1.0f);
-    double sum = 0;  // in pixel order: deterministic
-    for (size_t i = 0; i + 2 < a.rgb.size(); i += 3) {
-        double d = double(luminance(Rgb(a.rgb[i], a.rgb[i + 1], a.rgb[i + 2]))) -
-                   double(luminance(Rgb(b.rgb[i], b.rgb[i + 1], b.rgb[i + 2])));
-        sum += d * d;
-    }
-    out.variance = sum / 2;
+    out.variance = luminanceSquaredDifference(a, b) / 2;
     out.renderer->absorb(second);
     out.rays = double(out.renderer->rays());
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
