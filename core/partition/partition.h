@@ -14,13 +14,16 @@
 #include <vector>
 
 #include "partition/prepass.h"
+#include "partition/type_pattern.h"
 #include "path_type.h"
 
 namespace partita {
 
 struct Partition {
-    std::string label;            // the type string, or "complement"
-    std::vector<PathType> types;  // the types it holds; the complement: those it excludes
+    std::string label;  // the pattern ("LDSDE", "LS+DE"), or "complement"
+    /// What it holds: one exact type or one class (type_pattern.h); the complement: the patterns
+    /// of every other partition, which it excludes.
+    std::vector<TypePattern> patterns;
     bool complement = false;
     double gamma = 0;   // half A
     double p = 0;       // P(i)
@@ -35,10 +38,28 @@ struct Partition {
 
 inline constexpr const char* kComplementLabel = "complement";
 
-/// The partitions of `prepass` with up to `k` types of their own (k = 0: the complement alone,
-/// which is all of path space), ordered by decreasing gamma, the complement last.
+/// The bound on the relative standard error of a partition's b (the file's comment).
+inline constexpr double kMaxBRelativeError = 0.15;
+
+/// What a partition may be: one exact Heckbert string (the paper's) or a class of types.
+enum class PartitionShape { Types, Classes };
+
+/// Parses "types" or "classes" (std::invalid_argument otherwise).
+PartitionShape parsePartitionShape(const std::string& name);
+
+/// The partitions of `prepass` with up to `k` of their own (k = 0: the complement alone, which
+/// is all of path space), ordered by decreasing gamma, the complement last.
+/// Types: the k exact types of largest gamma. Classes (issue #23 2): the types grouped by run
+/// structure (TypePattern::structureOf), then, while there are fewer than k classes, the class
+/// of largest gamma split at the open run that divides its gamma most evenly ("LD+E" into
+/// "LDE" and "LDD+E"); the k of largest gamma are kept. Either way a candidate whose b has a
+/// relative error above the bound goes to the complement.
 std::vector<Partition> makePartitions(const PrepassResult& prepass, int k,
-                                      double maxRelativeError = 0.15);
+                                      double maxRelativeError = kMaxBRelativeError,
+                                      PartitionShape shape = PartitionShape::Types);
+
+/// The complement's share of the sum of b over all partitions (0 without a complement).
+double complementShareOfB(const std::vector<Partition>& partitions);
 
 /// Mutations per partition in proportion to P(i) (the stratified form of Eq. 10), after
 /// `minimum` for every partition (when n allows), so that none with b_i > 0 goes without a

@@ -12,15 +12,19 @@ std::vector<std::vector<float>> partitionPrepassImages(const PrepassResult& prep
     size_t pixels = size_t(std::max(0, width)) * size_t(std::max(0, height));
     std::vector<std::vector<float>> images(partitions.size(), std::vector<float>(pixels, 0.0f));
     if (pixels == 0 || prepass.samplesB == 0) return images;
-    // Each type's partition: its own one, else the complement's (if there is one).
-    std::map<PathType, size_t> own;
-    size_t complement = partitions.size();
-    for (size_t g = 0; g < partitions.size(); ++g) {
-        if (partitions[g].complement)
-            complement = g;
-        else
-            for (const PathType& t : partitions[g].types) own.emplace(t, g);
-    }
+    // Each type's partition (the one that holds it; none when there is no complement), looked
+    // up once per type.
+    std::map<PathType, size_t> partitionOf;
+    auto lookUp = [&](const PathType& t) {
+        auto [it, added] = partitionOf.emplace(t, partitions.size());
+        if (added)
+            for (size_t g = 0; g < partitions.size(); ++g)
+                if (partitions[g].holds(t)) {
+                    it->second = g;
+                    break;
+                }
+        return it->second;
+    };
     // Added in record order (sample order): the images do not depend on the thread count. At
     // 1280x720 a pixel gets a handful of records (the default pre-pass draws ~0.1 sample a
     // pixel); float sums keep the mean b_i to ~1e-6 even at many records a pixel.
@@ -30,8 +34,7 @@ std::vector<std::vector<float>> partitionPrepassImages(const PrepassResult& prep
     bool haveLast = false;
     for (const BootstrapCandidate& c : prepass.candidatesB) {
         if (!haveLast || !(c.type == lastType)) {
-            auto it = own.find(c.type);
-            lastPartition = it != own.end() ? it->second : complement;
+            lastPartition = lookUp(c.type);
             lastType = c.type;
             haveLast = true;
         }

@@ -254,7 +254,8 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     ctx.throwIfCancelled();
 
     PartitionedStart out;
-    out.partitions = makePartitions(prepass, settings.k);
+    out.partitions = makePartitions(prepass, settings.k, kMaxBRelativeError,
+                                    parsePartitionShape(settings.partitions));
     RenderStats setupStats;
     out.prepared = mutations.prepare(ctx, prepass, out.partitions, setupStats);
     ctx.throwIfCancelled();
@@ -273,6 +274,8 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     st.values["prepass_samples_requested"] = double(samples);
     st.values["prepass_seconds"] = prepassSeconds;
     st.values["prepass_types"] = double(prepass.gamma.size());
+    st.labels["partitions_shape"] = settings.partitions;
+    st.values["complement_b_share"] = complementShareOfB(out.partitions);
     st.values["prepass_candidates_truncated"] = prepass.candidatesTruncated ? 1 : 0;
     // Half B's path records, alive from the pre-pass to the end of the plan (allocated: the
     // vector's capacity).
@@ -291,8 +294,8 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
 // statistics and rays.
 void putPartition(ByteWriter& w, const Partition& p) {
     w.putString(p.label);
-    w.put(uint64_t(p.types.size()));
-    for (const PathType& t : p.types) putPathType(w, t);
+    w.put(uint64_t(p.patterns.size()));
+    for (const TypePattern& t : p.patterns) w.putString(t.toString());
     w.put(uint8_t(p.complement));
     w.put(p.gamma);
     w.put(p.p);
@@ -304,8 +307,12 @@ void putPartition(ByteWriter& w, const Partition& p) {
 Partition getPartition(ByteReader& r) {
     Partition p;
     p.label = r.getString();
-    uint64_t types = r.get<uint64_t>();
-    for (uint64_t i = 0; i < types; ++i) p.types.push_back(getPathType(r));
+    const uint64_t patterns = r.get<uint64_t>();
+    for (uint64_t i = 0; i < patterns; ++i) {
+        TypePattern t;
+        if (!TypePattern::parse(r.getString(), t)) r.fail("a partition's pattern is malformed");
+        p.patterns.push_back(t);
+    }
     p.complement = r.get<uint8_t>() != 0;
     p.gamma = r.get<double>();
     p.p = r.get<double>();
@@ -372,11 +379,13 @@ PartitionedStart deserializeStart(std::span<const uint8_t> bytes) {
 
 VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
                                                 const Partition& partition) {
-    if (!partition.complement) {
+    // One exact type: the bidirectional mutation keeps the length, the independence mutation
+    // proposes only it. A class or the complement: every mutation, as mlt's.
+    if (!partition.complement && partition.patterns.size() == 1 &&
+        partition.patterns[0].isExact()) {
         base.bidirectional.additionWeights = {1.0, 0.0};
-        // The independence mutation proposes only the lengths of the partition's types.
-        for (const PathType& t : partition.types)
-            base.independenceVertexCounts.push_back(t.scatteringVertices() + 2);
+        base.independenceVertexCounts.push_back(
+            partition.patterns[0].exactType().scatteringVertices() + 2);
     }
     return base;
 }

@@ -12,6 +12,9 @@ namespace partita {
 
 struct PartitionPipelineSettings {
     int k = 10;  // K: the top-K path types become partitions, plus the complement (paper Sec. 4)
+    /// What a partition is (partition.h): "types", one exact Heckbert string each (the
+    /// paper's), or "classes", classes of types by run structure ("LS+DE"), split until K.
+    std::string partitions = "types";
     /// The pre-pass estimator: "pt" (the paper's), "bdpt" or "auto" (bdpt when the scene has a
     /// delta light, else pt). Default bdpt, the estimator of mlt's start-up: at the same 100000
     /// samples its b_i are less noisy than the path tracer's (the sum of b_i spreads 3-4% over
@@ -48,6 +51,12 @@ void addPipelineParameters(SettingsTable<S>& t) {
               .withUnit("partitions")
               .within(0, 64),
           &PartitionPipelineSettings::k);
+    t.add(ParameterSpec("partitions",
+                        "what a partition is: types (one exact Heckbert string each, the "
+                        "paper's) or classes (types of one run structure, such as LS+DE, the "
+                        "largest split until there are K)")
+              .withChoices({"types", "classes"}),
+          &PartitionPipelineSettings::partitions);
     t.add(ParameterSpec("prepass",
                         "pre-pass estimator (auto: bdpt when the scene has a delta light, else pt)")
               .withChoices({"auto", "pt", "bdpt"}),

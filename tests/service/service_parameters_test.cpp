@@ -35,6 +35,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"chains", "8"},
         {"startup_share", "0.5"},
         {"burn_in", "16"},
+        {"partitions", "classes"},
         {"estimators", "per-pixel"},
         {"allocation", "neyman"},
         {"pilot_share", "0.1"},

@@ -47,7 +47,8 @@ inline RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind
 
 /// The pre-pass and partitions of a scene, as `partitioned` makes them.
 inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint64_t seed,
-                                           uint64_t samples) {
+                                           uint64_t samples,
+                                           PartitionShape shape = PartitionShape::Types) {
     Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
     RenderSettings st = tinySettings(1, seed, BudgetKind::MutationsPerPixel);
     ThreadPool pool(2);
@@ -58,7 +59,7 @@ inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint
     BootstrapSampler sampler(
         scene, camera, kMaxDepth, seed,
         choosePrepassEstimator(scene, PartitionPipelineSettings{}.prepass, why));
-    return makePartitions(runPrepass(ctx, sampler, samples), k);
+    return makePartitions(runPrepass(ctx, sampler, samples), k, kMaxBRelativeError, shape);
 }
 
 /// Per block, the mean luminance of `image`.
@@ -84,8 +85,8 @@ inline Image partitionReference(const LayeredImage& bdpt, const Partition& p) {
     return sum;
 }
 
-/// The partitions a render made, from its statistics (partition_<g>_type): the one-type
-/// partitions, then the complement of them all (when it has one).
+/// The partitions a render made, from its statistics (partition_<g>_type): the patterns (one
+/// type or a class), then the complement of them all (when it has one).
 inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
     std::vector<Partition> out;
     Partition complement;
@@ -100,10 +101,10 @@ inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
         }
         Partition p;
         p.label = label;
-        PathType t;
-        EXPECT_TRUE(PathType::parse(label, t)) << label;
-        p.types = {t};
-        complement.types.push_back(t);
+        TypePattern pattern;
+        EXPECT_TRUE(TypePattern::parse(label, pattern)) << label;
+        p.patterns = {pattern};
+        complement.patterns.push_back(pattern);
         out.push_back(p);
     }
     return out;
@@ -117,20 +118,17 @@ struct EstimatorCounts {
 /// Each partition's image (and the combined one) against the BDPT reference of its types, per
 /// block, over independent seeds. The partitions are those of the render's own pre-pass, which
 /// are the same for every seed only if the ranking is stable: the test compares by label.
-/// `estimators` and `allocation` are the pipeline's parameters (empty: the defaults).
-inline EstimatorCounts expectPartitionsConverge(const std::string& algorithm,
-                                                const std::string& sceneName, double mpp,
-                                                double spp, int seeds,
-                                                const std::string& estimators = "",
-                                                const std::string& allocation = "") {
+/// `parameters`: the pipeline's, by name (estimators, allocation, partitions; others default).
+inline EstimatorCounts expectPartitionsConverge(
+    const std::string& algorithm, const std::string& sceneName, double mpp, double spp, int seeds,
+    const std::map<std::string, std::string>& parameters = {}) {
     EstimatorCounts counts;
     RenderScene scene = loadScene(sceneName);
     std::map<std::string, std::vector<std::vector<double>>> mine, reference;
     for (int seed = 0; seed < seeds; ++seed) {
         RenderSettings st = tinySettings(mpp, 10 + uint64_t(seed), BudgetKind::MutationsPerPixel);
         st.parameters.set("k", 4);
-        if (!estimators.empty()) st.parameters.set("estimators", estimators);
-        if (!allocation.empty()) st.parameters.set("allocation", allocation);
+        for (const auto& [name, value] : parameters) st.parameters.set(name, value);
         RenderResult r = test::renderWith(scene, algorithm, st);
         for (int g = 0; g < int(r.stats.values["partitions"]); ++g) {
             const std::string kind =

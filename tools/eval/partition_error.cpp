@@ -6,6 +6,8 @@
 #include "film.h"
 #include "image_metrics.h"
 #include "partition/partition.h"
+#include "partition/type_pattern.h"
+#include "path_type.h"
 
 namespace partita::eval {
 
@@ -39,6 +41,33 @@ std::vector<std::string> partitionLabels(const std::map<std::string, std::string
     }
 }
 
+namespace {
+
+/// The reference of one partition (not the complement): the reference's layer of its type, or
+/// for a class the sum of the reference's layers of the types it holds. `complete` false when
+/// the reference may hide some of it in "other" (or lacks the type).
+Image partitionReference(const LayeredImage& reference, const std::string& name, bool& complete) {
+    if (const Image* layer = name == Film::kOtherLayer ? nullptr : reference.layer(name)) {
+        complete = true;
+        return *layer;
+    }
+    Image sum(reference.combined.width, reference.combined.height);
+    TypePattern pattern;
+    complete = false;
+    if (name == Film::kOtherLayer || !TypePattern::parse(name, pattern) || pattern.isExact())
+        return sum;  // a type the reference lacks: black
+    for (const ImageLayer& layer : reference.layers) {
+        PathType t;
+        if (!PathType::parse(layer.name, t) || !pattern.matches(t)) continue;
+        for (size_t i = 0; i < sum.rgb.size() && i < layer.image.rgb.size(); ++i)
+            sum.rgb[i] += layer.image.rgb[i];
+    }
+    complete = !reference.layer(Film::kOtherLayer);
+    return sum;
+}
+
+}  // namespace
+
 std::vector<PartitionError> partitionErrors(const LayeredImage& render,
                                             const std::vector<std::string>& partitions,
                                             const LayeredImage& reference) {
@@ -46,39 +75,37 @@ std::vector<PartitionError> partitionErrors(const LayeredImage& render,
     requireSize(render.combined, refCombined, "the render");
     double combinedSquared = squaredError(render.combined, refCombined);
     double values = double(refCombined.rgb.size());
-    // The complement's reference subtracts the reference layers of the partitions' own types.
-    // When the reference lacks one of them and has an "other", that type may be in its "other",
-    // and the complement's reference then holds it too: not a reference of the complement.
-    std::vector<const Image*> typeReferences;
-    bool complete = true;
-    for (const auto& name : partitions)
-        if (name != kComplementLabel) {
-            const Image* r = name == Film::kOtherLayer ? nullptr : reference.layer(name);
-            if (r)
-                typeReferences.push_back(r);
-            else
-                complete = false;
-        }
-    bool complementInReference = complete || !reference.layer(Film::kOtherLayer);
-    std::vector<PartitionError> out;
+    // Each partition's reference; the complement's is the combined reference less the others'.
+    // When a partition's reference may lie partly in the reference's "other", the complement's
+    // reference then holds that part too: not a reference of the complement.
+    std::vector<Image> references;
+    std::vector<bool> complete;
+    Image rest = refCombined;
+    bool restComplete = true;
     for (const auto& name : partitions) {
+        bool whole = true;
+        references.push_back(name == kComplementLabel ? Image(refCombined.width, refCombined.height)
+                                                      : partitionReference(reference, name, whole));
+        complete.push_back(whole);
+        if (name == kComplementLabel) continue;
+        restComplete = restComplete && whole;
+        for (size_t i = 0; i < rest.rgb.size(); ++i) rest.rgb[i] -= references.back().rgb[i];
+    }
+    std::vector<PartitionError> out;
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        const std::string& name = partitions[g];
         const Image* mine = render.layer(name);
         if (!mine) throw std::invalid_argument("the render has no layer '" + name + "'");
         requireSize(*mine, refCombined, "layer " + name);
         PartitionError e;
         e.layer = name;
-        const Image* ref =
-            name == kComplementLabel || name == Film::kOtherLayer ? nullptr : reference.layer(name);
-        e.inReference = name == kComplementLabel ? complementInReference : ref != nullptr;
+        const bool isComplement = name == kComplementLabel;
+        const Image& ref = isComplement ? rest : references[g];
+        e.inReference =
+            isComplement ? restComplete || !reference.layer(Film::kOtherLayer) : complete[g];
         double squared = 0, relative = 0;
         for (size_t i = 0; i < refCombined.rgb.size(); ++i) {
-            double r = 0;
-            if (name == kComplementLabel) {
-                r = double(refCombined.rgb[i]);
-                for (const Image* t : typeReferences) r -= double(t->rgb[i]);
-            } else if (ref) {
-                r = double(ref->rgb[i]);
-            }
+            const double r = double(ref.rgb[i]);
             double d = double(mine->rgb[i]) - r;
             squared += d * d;
             relative += d * d / (r * r + kRelMseEpsilon);

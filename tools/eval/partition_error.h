@@ -2,7 +2,8 @@
 // `partitioned` render has one layer per partition, named by its type string ("LDSDE"), and the
 // complementary partition's layer "complement" (integrators/partitioned); its statistics name
 // them in order (labels partition_<g>_type). The reference of a one-type partition is the
-// reference's layer of that type (references keep every type: `--layers 1024`); the reference
+// reference's layer of that type (references keep every type: `--layers 1024`), of a class
+// ("LS+DE", partition/type_pattern.h) the sum of its types' layers; the reference
 // of the complement is the reference's combined image minus its layers of the render's K types,
 // i.e. everything else, its "other" included.
 //

@@ -194,7 +194,7 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(guided.parameters["prepass"].choices, ("auto", "pt", "bdpt"))
         self.assertTrue(guided.parameters["width"].shared)
         self.assertEqual([p.name for p in guided.own_parameters()],
-                         ["k", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
+                         ["k", "partitions", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
                           "estimators", "allocation", "pilot_share", "large_step_rate", "y",
                           "radius", "epsilon"])
         self.assertEqual(algorithms["pt"].own_parameters(), [])

@@ -18,15 +18,15 @@ namespace {
 using namespace partitioned_test;
 
 TEST(Guided, PartitionsConvergeOnCornellGlass) {
-    expectPartitionsConverge("guided", "cornell-glass", 64, 64, 10, "chains");
+    expectPartitionsConverge("guided", "cornell-glass", 64, 64, 10, {{"estimators", "chains"}});
 }
 
 TEST(Guided, PartitionsConvergeOnDoorAjar) {
-    expectPartitionsConverge("guided", "door-ajar", 64, 64, 10, "chains");
+    expectPartitionsConverge("guided", "door-ajar", 64, 64, 10, {{"estimators", "chains"}});
 }
 
 TEST(Guided, PartitionsConvergeOnPool) {
-    expectPartitionsConverge("guided", "pool", 64, 64, 10, "chains");
+    expectPartitionsConverge("guided", "pool", 64, 64, 10, {{"estimators", "chains"}});
 }
 
 TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {

@@ -53,6 +53,24 @@ TEST(PartitionError, TheComplementIsComparedWithTheCombinedReferenceMinusTheType
     EXPECT_NEAR(e[1].share, 4.0, 1e-12);
 }
 
+TEST(PartitionError, AClassIsComparedWithTheSumOfItsTypes) {
+    // Partitions LD+E (LDE + LDDE = 5 in the reference) and the complement (LSDE = 2).
+    LayeredImage render;
+    render.layers = {{"LD+E", filled(5.5f)}, {"complement", filled(2)}};
+    render.combined = filled(7.5f);
+    auto e = partitionErrors(render, {"LD+E", "complement"}, reference());
+    EXPECT_TRUE(e[0].inReference);
+    EXPECT_NEAR(e[0].rmse, 0.5, 1e-12);
+    EXPECT_TRUE(e[1].inReference);
+    EXPECT_NEAR(e[1].rmse, 0.0, 1e-12);
+    // With an "other" in the reference the class may lie partly in it: marked.
+    LayeredImage ref = reference();
+    ref.layers.push_back({"other", filled(0)});
+    e = partitionErrors(render, {"LD+E", "complement"}, ref);
+    EXPECT_FALSE(e[0].inReference);
+    EXPECT_FALSE(e[1].inReference);
+}
+
 TEST(PartitionError, ATypeTheReferenceLacksIsComparedWithBlack) {
     LayeredImage render;
     render.layers = {{"LSSDE", filled(0.5f)}, {"complement", filled(7)}};
