@@ -15,46 +15,55 @@ std::vector<TypePattern::Run> runsOf(const PathType& t) {
     return runs;
 }
 
-TypePattern TypePattern::exactly(const PathType& t) {
-    TypePattern p;
-    p.runs_ = runsOf(t);
-    return p;
+TypePattern::TypePattern(std::vector<Run> runs) : runs_(std::move(runs)) {
+    std::vector<bool> lightToEye;
+    for (const Run& r : runs_) {
+        exact_ = exact_ && !r.open;
+        minVertices_ += r.length;
+        lightToEye.insert(lightToEye.end(), size_t(r.length), r.specular);
+    }
+    // The type of the exact runs, built camera side first.
+    for (auto it = lightToEye.rbegin(); it != lightToEye.rend(); ++it)
+        exactType_ = exactType_.withVertex(*it);
 }
 
+TypePattern TypePattern::exactly(const PathType& t) { return TypePattern(runsOf(t)); }
+
 TypePattern TypePattern::structureOf(const PathType& t) {
-    TypePattern p;
-    p.runs_ = runsOf(t);
-    for (Run& r : p.runs_) r = {r.specular, 1, true};
-    return p;
+    std::vector<Run> runs = runsOf(t);
+    for (Run& r : runs) r = {r.specular, 1, true};
+    return TypePattern(std::move(runs));
 }
 
 bool TypePattern::parse(const std::string& text, TypePattern& out) {
     if (text.size() < 2 || text.front() != 'L' || text.back() != 'E') return false;
-    TypePattern p;
+    std::vector<Run> runs;
     for (size_t i = 1; i + 1 < text.size(); ++i) {
         const char c = text[i];
         if (c == '+') {
-            if (p.runs_.empty() || p.runs_.back().open) return false;
-            p.runs_.back().open = true;
+            if (runs.empty() || runs.back().open) return false;
+            runs.back().open = true;
             continue;
         }
         if (c != 'S' && c != 'D') return false;
         const bool specular = c == 'S';
-        if (!p.runs_.empty() && p.runs_.back().specular == specular) {
-            if (p.runs_.back().open) return false;  // "S+S": not a maximal run
-            ++p.runs_.back().length;
+        if (!runs.empty() && runs.back().specular == specular) {
+            if (runs.back().open) return false;  // "S+S": not a maximal run
+            ++runs.back().length;
         } else {
-            p.runs_.push_back({specular, 1, false});
+            runs.push_back({specular, 1, false});
         }
     }
     int vertices = 0;
-    for (const Run& r : p.runs_) vertices += r.length;
+    for (const Run& r : runs) vertices += r.length;
     if (vertices > PathType::kMaxScatteringVertices) return false;
-    out = p;
+    out = TypePattern(std::move(runs));
     return true;
 }
 
 bool TypePattern::matches(const PathType& t) const {
+    if (exact_) return t == exactType_;
+    if (t.scatteringVertices() < minVertices_) return false;
     // Walk t's vertices light to eye, one run at a time, without building its runs.
     int i = t.scatteringVertices() - 1;
     for (const Run& run : runs_) {
@@ -68,19 +77,9 @@ bool TypePattern::matches(const PathType& t) const {
     return i < 0;
 }
 
-bool TypePattern::isExact() const {
-    for (const Run& r : runs_)
-        if (r.open) return false;
-    return true;
-}
+bool TypePattern::isExact() const { return exact_; }
 
-PathType TypePattern::exactType() const {
-    std::vector<bool> lightToEye;
-    for (const Run& r : runs_) lightToEye.insert(lightToEye.end(), size_t(r.length), r.specular);
-    PathType t;  // built camera side first
-    for (auto it = lightToEye.rbegin(); it != lightToEye.rend(); ++it) t = t.withVertex(*it);
-    return t;
-}
+PathType TypePattern::exactType() const { return exactType_; }
 
 std::string TypePattern::toString() const {
     std::string s = "L";
@@ -92,10 +91,10 @@ std::string TypePattern::toString() const {
 }
 
 std::pair<TypePattern, TypePattern> TypePattern::split(size_t i) const {
-    TypePattern exact = *this, longer = *this;
-    exact.runs_[i].open = false;
-    ++longer.runs_[i].length;
-    return {exact, longer};
+    std::vector<Run> exact = runs_, longer = runs_;
+    exact[i].open = false;
+    ++longer[i].length;
+    return {TypePattern(std::move(exact)), TypePattern(std::move(longer))};
 }
 
 }  // namespace partita

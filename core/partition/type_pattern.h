@@ -46,10 +46,18 @@ class TypePattern {
     /// The two patterns that open run `i` (length m) splits into: exactly m, at least m + 1.
     std::pair<TypePattern, TypePattern> split(size_t i) const;
 
-    auto operator<=>(const TypePattern&) const = default;
+    auto operator<=>(const TypePattern& o) const { return runs_ <=> o.runs_; }
+    bool operator==(const TypePattern& o) const { return runs_ == o.runs_; }
 
   private:
+    explicit TypePattern(std::vector<Run> runs);
+
     std::vector<Run> runs_;  // light to eye
+    // Derived from runs_ once (matches() is the chains' restriction, called per proposal): an
+    // exact pattern compares types; an open one first rejects types with too few vertices.
+    bool exact_ = true;
+    PathType exactType_;
+    int minVertices_ = 0;
 };
 
 /// The runs of t, light to eye, all exact.
