@@ -153,6 +153,7 @@ struct alignas(64) Film::Tile {
     };
 
     TilePixels combined{};
+    std::atomic_flag busy;          // held by addSampleShared while it changes the sums
     std::vector<TypeBuffer> types;  // kept types that reached the tile
     TypeBuffer other;               // every type the film's TypeLayers does not keep
     std::vector<uint32_t> slots;    // open addressing over `types`: 0 = empty, else index + 1
@@ -312,6 +313,34 @@ void Film::addSample(int x, int y, PathType type, Rgb value) {
     // bug, ignored rather than written out of bounds.
     if (unsigned(x) >= unsigned(width_) || unsigned(y) >= unsigned(height_)) return;
     Pixel(*this, tileFor(x, y), tileIndex(x, y)).add(type, value);
+}
+
+namespace {
+
+/// A spin lock on a tile's flag for the few nanoseconds a sample's additions take: the writers
+/// are chains on as many threads as there are cores, which rarely meet in one tile.
+class SpinLock {
+  public:
+    explicit SpinLock(std::atomic_flag& flag) : flag_(flag) {
+        while (flag_.test_and_set(std::memory_order_acquire))
+            while (flag_.test(std::memory_order_relaxed)) {
+            }
+    }
+    ~SpinLock() { flag_.clear(std::memory_order_release); }
+    SpinLock(const SpinLock&) = delete;
+    SpinLock& operator=(const SpinLock&) = delete;
+
+  private:
+    std::atomic_flag& flag_;
+};
+
+}  // namespace
+
+void Film::addSampleShared(int x, int y, PathType type, Rgb value) {
+    if (unsigned(x) >= unsigned(width_) || unsigned(y) >= unsigned(height_)) return;
+    Tile& tile = tileFor(x, y);
+    SpinLock lock(tile.busy);
+    Pixel(*this, tile, tileIndex(x, y)).add(type, value);
 }
 
 Film::Pixel Film::pixel(int x, int y) {

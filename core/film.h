@@ -9,8 +9,8 @@
 // result is deterministic) and merges the rest, and the "other" buffer, into "other".
 //
 // Thread safety: concurrent addSample calls are safe when they touch different tiles (the path
-// tracer renders whole tiles per task). Algorithms that splat anywhere (MLT) give each thread
-// its own Film and `merge` them in a fixed order.
+// tracer renders whole tiles per task). Writers that splat anywhere (the MCMC chains) use
+// addSampleShared, which locks the tile it writes.
 #pragma once
 
 #include <atomic>
@@ -62,6 +62,12 @@ class Film {
     /// Black values change nothing (and do not register the type); a pixel outside the film is
     /// ignored.
     void addSample(int x, int y, PathType type, Rgb value);
+
+    /// addSample for writers that share tiles: MCMC chains, whose splats land anywhere, add
+    /// from every thread at once. The tile's lock is held while its sums change, so this is
+    /// safe against other addSampleShared calls (not against addSample, merge or resolve). The
+    /// sums are exact, so the film does not depend on which thread got a tile first.
+    void addSampleShared(int x, int y, PathType type, Rgb value);
 
     /// One pixel's place in the film, looked up once, for a renderer that adds many samples to
     /// one pixel in a row (the path tracer: all of a pixel's samples in a pass). add() follows

@@ -5,21 +5,14 @@
 #include <cmath>
 
 #include "film.h"
+#include "tent_filter.h"
 
 namespace partita {
 
 void SplatBuffer::addTent(Vec2f r, PathType type, Rgb value) {
-    float fx = r.x - 0.5f, fy = r.y - 0.5f;
-    int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-    float wx1 = fx - float(x0), wy1 = fy - float(y0);
-    for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) {
-            int x = x0 + dx, y = y0 + dy;
-            if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
-            float w = (dx ? wx1 : 1 - wx1) * (dy ? wy1 : 1 - wy1);
-            if (w > 0)
-                splats_.push_back({uint32_t(y) * uint32_t(width_) + uint32_t(x), type, value * w});
-        }
+    forEachTentPixel(r, width_, height_, [&](int x, int y, float w) {
+        splats_.push_back({uint32_t(y) * uint32_t(width_) + uint32_t(x), type, value * w});
+    });
 }
 
 void SplatBuffer::sortByPixel() {

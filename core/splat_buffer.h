@@ -26,8 +26,7 @@ class SplatBuffer {
   public:
     SplatBuffer(int width, int height) : width_(width), height_(height) {}
 
-    /// `value` at raster position r with the tent filter of radius one pixel that pt's camera
-    /// rays are drawn from: the up to four pixels whose tents cover r get (1-|dx|)(1-|dy|) of it.
+    /// `value` at raster position r, spread by the tent filter (tent_filter.h).
     void addTent(Vec2f r, PathType type, Rgb value);
     /// Adds the buffered splats to `film` (see above) and empties the buffer.
     void flushInto(Film& film);

@@ -84,30 +84,26 @@ double bdptExtraBytes(double pixels) {
 ///   wave by wave (sample_waves.h), the list reserved at kCandidatesPerSample a sample, and it
 ///   lives on through the render. Counted as one list of 14 records a sample (cornell at 2^20
 ///   samples: 503 MiB of growth against 599 estimated);
-/// - each chain's splats of one round (2 per mutation, 40 B: raster, type, value), and its
-///   state: two paths of up to max depth + 2 vertices and the mutations' scratch, ~16 KiB.
+/// - each chain's state: two paths of up to max depth + 2 vertices and the mutations' scratch,
+///   ~16 KiB (its splats go straight into the film: chain_runner.h).
 /// The job's own settings (its bootstrap samples, chains) count, with the defaults for the rest.
 struct MltExtra {
     double bootstrap, chains;
 };
 
-/// The chains' splats and states (as above), for `chains` chains of rounds of `roundMutations`.
-double chainBytes(int chains, uint64_t roundMutations, double pixels) {
-    constexpr double kSplatBytes = 40, kChainStateBytes = 16 << 10;
-    double splats = 2 * double(roundMutations) * kSplatBytes;
-    // The shared SplatBuffer sums one chain's splats at a time: 4 tent copies of 32 B, twice
-    // (buffered and sorted), and a start index per pixel.
-    double buffer = 2 * double(roundMutations) * 4 * 32 * 2 + 4 * pixels;
-    return double(chains) * (splats + kChainStateBytes) + buffer;
+/// The chains' states (as above).
+double chainBytes(int chains) {
+    constexpr double kChainStateBytes = 16 << 10;
+    return double(chains) * kChainStateBytes;
 }
 
-MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
+MltExtra mltExtraBytes(const RenderSettings& s) {
     const MltSettings defaults = mltParameters().resolve(s.parameters);
     constexpr double kCandidateBytes = sizeof(BootstrapCandidate);
     uint64_t samples = StartupRule::bootstrapSamples(defaults.bootstrapSamples, s);
     MltExtra e;
     e.bootstrap = double(samples) * kCandidatesPerSample * kCandidateBytes;
-    e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
+    e.chains = chainBytes(defaults.chains);
     return e;
 }
 
@@ -115,15 +111,15 @@ MltExtra mltExtraBytes(const RenderSettings& s, double pixels) {
 /// (integrators/partitioned/partitioned_settings.h), besides its K + 1 films:
 /// - the pre-pass's half-B records, 40 B each (partition/prepass.h), ~13 a sample as measured
 ///   for mlt's bootstrap, for half the samples, at most the pre-pass's memory budget;
-/// - the chains' splats and states as for mlt (the same number of chains over all partitions).
-MltExtra partitionedExtraBytes(const RenderSettings& s, double pixels) {
+/// - the chains' states as for mlt (the same number of chains over all partitions).
+MltExtra partitionedExtraBytes(const RenderSettings& s) {
     const PartitionedSettings defaults = partitionedParameters().resolve(s.parameters);
     constexpr double kRecordsPerSample = 13, kRecordBytes = sizeof(BootstrapCandidate);
     uint64_t samples = StartupRule::bootstrapSamples(defaults.bootstrapSamples, s);
     MltExtra e;
     e.bootstrap = std::min(double(samples) / 2 * kRecordsPerSample * kRecordBytes,
                            double(defaults.prepassMemoryBytes));
-    e.chains = chainBytes(defaults.chains, defaults.roundMutations, pixels);
+    e.chains = chainBytes(defaults.chains);
     return e;
 }
 
@@ -173,8 +169,8 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
                         ? std::min(pixels, double(kSurveyPixels)) * kSum * 128
                         : 0;
     MltExtra mlt{0, 0};
-    if (algorithm == "mlt") mlt = mltExtraBytes(s, pixels);
-    if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s, pixels);
+    if (algorithm == "mlt") mlt = mltExtraBytes(s);
+    if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s);
     double mltBytes = mlt.bootstrap + mlt.chains;
     // Partitions estimated per pixel (partition/per_pixel_partitions.h, unless every partition
     // has chains): the per-pixel estimator's film (the combined sums and one a per-pixel
@@ -207,7 +203,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (splats > 0) e.breakdown += ", bdpt splats " + humanBytes(splats);
     if (mltBytes > 0)
         e.breakdown += (hasPartitions(algorithm) ? ", pre-pass records " : ", mlt bootstrap ") +
-                       humanBytes(mlt.bootstrap) + ", chains and splats " + humanBytes(mlt.chains);
+                       humanBytes(mlt.bootstrap) + ", chains " + humanBytes(mlt.chains);
     if (perPixel > 0) e.breakdown += ", pilots and per-pixel partitions " + humanBytes(perPixel);
     if (guides > 0) e.breakdown += ", guides " + humanBytes(guides);
     e.breakdown += ", scene " + humanBytes(scene);

@@ -16,10 +16,17 @@ namespace partita {
 namespace {
 
 /// weights[i], then halving past the end.
-double weightAt(const std::vector<double>& weights, int i) {
+double halvingWeight(const std::vector<double>& weights, int i) {
     if (i < int(weights.size())) return weights[size_t(i)];
     double w = weights.empty() ? 1.0 : weights.back();
     return w * std::ldexp(1.0, -(i - int(weights.size()) + 1));
+}
+
+/// halvingWeight for i = 0 .. count - 1.
+std::vector<double> halvingTable(const std::vector<double>& weights, int count) {
+    std::vector<double> table(size_t(std::max(count, 0)));
+    for (int i = 0; i < count; ++i) table[size_t(i)] = halvingWeight(weights, i);
+    return table;
 }
 
 /// Index in [0, count) drawn with probability weight(i) / sum.
@@ -44,6 +51,26 @@ bool allSurfaces(const std::vector<PathVertex>& v, size_t from, size_t end) {
 
 }  // namespace
 
+BidirectionalMutation::BidirectionalMutation(const RenderScene& scene, const Camera& camera,
+                                             int maxDepth, BidirectionalSettings settings)
+    : scene_(scene),
+      camera_(camera),
+      maxDepth_(maxDepth),
+      settings_(std::move(settings)),
+      // A path has at most maxDepth + 2 vertices: kd - 1 and |ka - kd| stay below maxDepth + 4.
+      deletionTable_(halvingTable(settings_.deletionWeights, maxDepth + 4)),
+      additionTable_(halvingTable(settings_.additionWeights, maxDepth + 4)) {}
+
+double BidirectionalMutation::deletionWeight(int i) const {
+    return i < int(deletionTable_.size()) ? deletionTable_[size_t(i)]
+                                          : halvingWeight(settings_.deletionWeights, i);
+}
+
+double BidirectionalMutation::additionWeight(int i) const {
+    return i < int(additionTable_.size()) ? additionTable_[size_t(i)]
+                                          : halvingWeight(settings_.additionWeights, i);
+}
+
 bool BidirectionalMutation::endsOnHittableLight(const std::vector<PathVertex>& x) const {
     const PathVertex& last = x.back();
     return last.kind == VertexKind::Light && last.light >= 0 &&
@@ -53,8 +80,8 @@ bool BidirectionalMutation::endsOnHittableLight(const std::vector<PathVertex>& x
 double BidirectionalMutation::deletionProbability(int kd, int n) const {
     if (kd < 1 || kd > n) return 0;
     double total = 0;
-    for (int k = 1; k <= n; ++k) total += weightAt(settings_.deletionWeights, k - 1);
-    return weightAt(settings_.deletionWeights, kd - 1) / total;
+    for (int k = 1; k <= n; ++k) total += deletionWeight(k - 1);
+    return deletionWeight(kd - 1) / total;
 }
 
 double BidirectionalMutation::additionProbability(int ka, int kd, int kept,
@@ -63,9 +90,8 @@ double BidirectionalMutation::additionProbability(int ka, int kd, int kept,
     int minKa = lightDeleted ? 2 : 1, maxKa = maxDepth_ + 3 - kept;
     if (ka < minKa || ka > maxKa) return 0;
     double total = 0;
-    for (int k = minKa; k <= maxKa; ++k)
-        total += weightAt(settings_.additionWeights, std::abs(k - kd));
-    return weightAt(settings_.additionWeights, std::abs(ka - kd)) / total;
+    for (int k = minKa; k <= maxKa; ++k) total += additionWeight(std::abs(k - kd));
+    return additionWeight(std::abs(ka - kd)) / total;
 }
 
 BidirectionalMutation::Splits BidirectionalMutation::splits(int n, Cut cut) const {
@@ -178,9 +204,8 @@ bool BidirectionalMutation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y
                                     double& reverseOverForward, uint64_t& rays) {
     int n = x.size();
     // Steps 1-4 of the header: what to delete, how much to add, how to split it.
-    int kd =
-        1 + sampleDiscrete(
-                n, [&](int i) { return weightAt(settings_.deletionWeights, i); }, rng.nextFloat());
+    int kd = 1 + sampleDiscrete(
+                     n, [&](int i) { return deletionWeight(i); }, rng.nextFloat());
     int l = int(rng.nextBounded(uint32_t(cutPositions(kd, n))));
     Cut cutX{l, kd};
     int kept = n - kd + 1;
@@ -190,10 +215,7 @@ bool BidirectionalMutation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y
     if (maxKa < minKa) return false;
     int ka = minKa + sampleDiscrete(
                          maxKa - minKa + 1,
-                         [&](int i) {
-                             return weightAt(settings_.additionWeights, std::abs(minKa + i - kd));
-                         },
-                         uKa);
+                         [&](int i) { return additionWeight(std::abs(minKa + i - kd)); }, uKa);
     Cut cutY{l, ka};
     int nY = kept + ka - 1;
     Splits range = splits(nY, cutY);

@@ -43,8 +43,7 @@ struct BidirectionalSettings {
 class BidirectionalMutation : public Mutation {
   public:
     BidirectionalMutation(const RenderScene& scene, const Camera& camera, int maxDepth,
-                          BidirectionalSettings settings = {})
-        : scene_(scene), camera_(camera), maxDepth_(maxDepth), settings_(std::move(settings)) {}
+                          BidirectionalSettings settings = {});
 
     std::string name() const override { return "bidirectional"; }
     bool appliesTo(const MarkovPath& x) const override { return x.size() >= 2; }
@@ -69,6 +68,9 @@ class BidirectionalMutation : public Mutation {
     Splits splits(int n, Cut cut) const;
     /// The number of first deleted edges l possible for kd deleted edges of n.
     static int cutPositions(int kd, int n);
+    /// The settings' weight of index i, its halving tail included.
+    double deletionWeight(int i) const;
+    double additionWeight(int i) const;
     bool endsOnHittableLight(const std::vector<PathVertex>& x) const;
     /// sum over the splits of the density of sampling path x's segment `cut` (step 4 above).
     double segmentDensity(const std::vector<PathVertex>& x, Cut cut) const;
@@ -82,6 +84,9 @@ class BidirectionalMutation : public Mutation {
     const Camera& camera_;
     int maxDepth_;
     BidirectionalSettings settings_;
+    /// The settings' weights with their halving tails spelt out for every index a path of
+    /// maxDepth can ask (a proposal sums them over every length, twice).
+    std::vector<double> deletionTable_, additionTable_;
 };
 
 }  // namespace partita

@@ -9,6 +9,7 @@
 #include "mcmc/startup_rule.h"
 #include "path/path.h"
 #include "progress_reporter.h"
+#include "tent_filter.h"
 #include "thread_pool.h"
 
 namespace partita {
@@ -20,11 +21,6 @@ struct ChainRunner::Chain {
           markov(mutations.weighted, std::move(restriction), std::move(start), rng),
           plan(planned) {}
 
-    struct Splat {
-        Vec2f raster;
-        PathType type;
-        Rgb value;
-    };
     MutationSet mutations;
     MarkovChain markov;
     const PlannedChain& plan;
@@ -33,7 +29,7 @@ struct ChainRunner::Chain {
     uint64_t lastMove = 0;       // 1 + the index of its last mutation that moved; 0: none yet
     PathType startType;          // its path's type when its counted mutations began
     bool leftStartType = false;  // its path's type has differed from startType since
-    std::vector<Splat> splats;   // of the current round
+    std::vector<Film*> films;    // where its splats go (see FilmLayout)
 };
 
 ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
@@ -49,7 +45,6 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
     for (size_t g = 0; g < plan.groups.size(); ++g) {
         const bool combinedOnly = layout == FilmLayout::AllAndHalf && g == 1;
         films_.emplace_back(w, h, combinedOnly ? TypeLayers::of({}) : plan.layers);
-        splatBuffers_.emplace_back(w, h);
     }
     for (const PlannedChain& c : plan.chains) {
         MarkovPath start;
@@ -59,6 +54,7 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
         PathRestriction restriction = restrictions ? restrictions(c.group) : PathRestriction{};
         chains_.push_back(std::make_unique<Chain>(mutations(c.group), std::move(restriction),
                                                   std::move(start), Rng(plan.seed, c.stream), c));
+        chains_.back()->films = filmsOf(c.group);
     }
 }
 
@@ -78,7 +74,6 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
         if (!remaining) break;
         auto roundStart = Clock::now();
         runRound(roundLength, progress);
-        addSplats();
         auto now = Clock::now();
         double elapsed = std::chrono::duration<double>(now - start).count();
         publishProgressValues(progress);
@@ -123,19 +118,22 @@ void ChainRunner::runRound(uint64_t roundLength, ProgressReporter& progress) {
     ctx_.pool.parallelFor(chains_.size(), [&](size_t k) {
         Chain& c = *chains_[k];
         uint64_t steps = std::min(roundLength, c.plan.mutations - c.done);
-        c.splats.clear();
-        c.splats.reserve(size_t(2 * steps));
         if (c.done == 0) c.startType = c.markov.state().type;  // after the burn-in
+        const int w = ctx_.settings.width, h = ctx_.settings.height;
         auto splat = [&](Vec2f raster, PathType type, Rgb value) {
-            c.splats.push_back({raster, type, value});
+            forEachTentPixel(raster, w, h, [&](int x, int y, float weight) {
+                const Rgb share = value * weight;
+                for (Film* film : c.films) film->addSampleShared(x, y, type, share);
+            });
         };
         for (uint64_t i = 0; i < steps; ++i) {
             if ((i & 63) == 0) ctx_.throwIfCancelled();
-            if (c.markov.step(splat)) {
+            if (c.markov.stepDeferred(splat)) {
                 c.lastMove = c.done + i + 1;
                 c.leftStartType = c.leftStartType || c.markov.state().type != c.startType;
             }
         }
+        c.markov.flush(splat);  // the round's films are complete (previews, a shard's end)
         c.done += steps;
         progress.advance(double(steps));
     });
@@ -166,23 +164,12 @@ void ChainRunner::publishProgressValues(ProgressReporter& progress) const {
     progress.setValues(std::move(values));
 }
 
-void ChainRunner::addSplats() {
-    auto addTo = [&](uint32_t f, const Chain& c) {
-        SplatBuffer& buffer = splatBuffers_[f];
-        for (const Chain::Splat& s : c.splats) buffer.addTent(s.raster, s.type, s.value);
-        buffer.flushInto(films_[f]);
-    };
-    for (const auto& c : chains_) {
-        if (layout_ == FilmLayout::PerGroup) {
-            addTo(c->plan.group, *c);
-        } else {
-            // Chain by chain into film 0, and group 1's also into film 1: each chain's sums
-            // are rounded to fixed point once per film, so film 0 = group 0 + group 1 exactly.
-            addTo(0, *c);
-            if (c->plan.group == 1) addTo(1, *c);
-        }
-        c->splats.clear();
-    }
+std::vector<Film*> ChainRunner::filmsOf(uint32_t group) {
+    if (layout_ == FilmLayout::PerGroup) return {&films_[group]};
+    // Every chain into film 0, and group 1's also into film 1: each splat is rounded to fixed
+    // point on its own, the same in both films, so film 0 = group 0 + group 1 exactly.
+    if (group == 1) return {&films_[0], &films_[1]};
+    return {&films_[0]};
 }
 
 float ChainRunner::filmScale(double b, int width, int height, uint64_t done) {

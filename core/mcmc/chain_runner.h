@@ -1,8 +1,9 @@
 // Runs the chains of a chain plan on the thread pool (the orchestration mlt, partitioned and
-// guided share): rounds of at most `roundMutations` mutations per chain, each chain recording
-// its splats, then the splats added to its group's film chain by chain through a SplatBuffer
-// (accurate, ordered sums). The rounds are fixed by the plan, not by the threads, so the films
-// are bit-identical for any thread count. Cancellation is checked inside the chains.
+// guided share): rounds of at most `roundMutations` mutations per chain, each chain adding its
+// splats, tent-filtered (tent_filter.h), to its group's film as it goes
+// (Film::addSampleShared: every thread at once). The films' sums are exact, so the order in
+// which chains on different threads add does not matter: the films are bit-identical for any
+// thread count. Cancellation is checked inside the chains.
 #pragma once
 
 #include <atomic>
@@ -16,7 +17,6 @@
 #include "mcmc/chain_plan.h"
 #include "mcmc/markov_chain.h"
 #include "mcmc/veach_mutations.h"
-#include "splat_buffer.h"
 
 namespace partita {
 
@@ -93,7 +93,8 @@ class ChainRunner {
     /// StartupRule::kBurnInShare of them have passed.
     void burnIn(double seconds);
     void runRound(uint64_t roundLength, ProgressReporter& progress);
-    void addSplats();
+    /// The films a chain of `group` splats into (see FilmLayout).
+    std::vector<Film*> filmsOf(uint32_t group);
     void publishProgressValues(ProgressReporter& progress) const;
 
     const RenderContext& ctx_;
@@ -102,7 +103,6 @@ class ChainRunner {
     FilmLayout layout_;
     std::vector<std::unique_ptr<Chain>> chains_;
     std::vector<Film> films_;
-    std::vector<SplatBuffer> splatBuffers_;
 };
 
 }  // namespace partita

@@ -51,15 +51,53 @@ class MarkovChain {
     /// expected-value weight. Returns whether the chain moved.
     template <typename Splat>
     bool step(Splat&& splat) {
+        return stepWith([&](const MarkovPath& s, double weight) {
+            splat(s.raster, s.type, s.f * float(weight / double(s.fStar)));
+        });
+    }
+
+    /// step() with the current state's splats deferred: while the chain stays, its weights
+    /// (1 - a a step) add up and reach `splat` as one splat when it moves, or at flush(). The
+    /// image is the same sum with one film add per move instead of one per step (the film's
+    /// adds are a chain's largest cost after tracing, issue #22 4). Call flush(splat) before
+    /// the splats are read.
+    template <typename Splat>
+    bool stepDeferred(Splat&& splat) {
+        auto splatState = [&](const MarkovPath& s, double weight) {
+            if (&s != &current_) {
+                splat(s.raster, s.type, s.f * float(weight / double(s.fStar)));
+                return;
+            }
+            if (pending_.weight == 0) pending_ = {s.raster, s.type, s.f, double(s.fStar), 0};
+            pending_.weight += weight;
+        };
+        bool moved = stepWith(splatState);
+        if (moved) flush(splat);
+        return moved;
+    }
+    /// Hands the current state's deferred weight (stepDeferred) to `splat`.
+    template <typename Splat>
+    void flush(Splat&& splat) {
+        if (pending_.weight > 0)
+            splat(pending_.raster, pending_.type,
+                  pending_.f * float(pending_.weight / pending_.fStar));
+        pending_.weight = 0;
+    }
+
+    const MarkovPath& state() const { return current_; }
+    const std::vector<MutationStats>& stats() const { return stats_; }
+    uint64_t rays() const { return rays_; }
+
+  private:
+    /// One mutation, each state handed to splatState(state, expected-value weight).
+    template <typename SplatState>
+    bool stepWith(SplatState&& splatState) {
         size_t chosen = SIZE_MAX;
         auto propose = [&](const MarkovPath& x, Rng& rng) {
             Proposal<MarkovPath> y;
             y.valid = proposeWithChoice(x, rng, y.state, y.reverseOverForward, chosen);
             y.f = y.state.fStar;
             return y;
-        };
-        auto splatState = [&](const MarkovPath& s, double weight) {
-            splat(s.raster, s.type, s.f * float(weight / double(s.fStar)));
         };
         double fx = current_.fStar;
         bool moved = false;
@@ -72,12 +110,6 @@ class MarkovChain {
         }
         return moved;
     }
-
-    const MarkovPath& state() const { return current_; }
-    const std::vector<MutationStats>& stats() const { return stats_; }
-    uint64_t rays() const { return rays_; }
-
-  private:
     /// Chooses a mutation among those that apply to x and proposes with it; the ratio includes
     /// P(choice | y) / P(choice | x) and the restriction. `chosen` is set whenever one applied.
     bool proposeWithChoice(const MarkovPath& x, Rng& rng, MarkovPath& y, double& ratio,
@@ -95,6 +127,14 @@ class MarkovChain {
     Rng rng_;
     std::vector<MutationStats> stats_;
     uint64_t rays_ = 0;
+    /// The current state's splat that stepDeferred holds back: f / f* times the summed weight.
+    struct PendingSplat {
+        Vec2f raster;
+        PathType type;
+        Rgb f;
+        double fStar = 1;
+        double weight = 0;
+    } pending_;
 };
 
 }  // namespace partita

@@ -48,10 +48,10 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "64"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12: pt is estimated at ~8 MiB, mlt with a time budget at ~87 MiB, for whatever size:
+    // 16x12: pt is estimated at ~8 MiB, mlt with a time budget at ~66 MiB, for whatever size:
     // its bootstrap's candidates (the start-up rule's 100000 samples for a time budget, of ~14
-    // candidates of 40 B: ~53 MiB) and its 256 chains' splats of a round (2 x 1024 x 40 B
-    // each: 20 MiB) and states (4 MiB).
+    // candidates of 40 B: ~53 MiB) and its 256 chains' states (4 MiB; their splats go straight
+    // into the film).
     Submitted pt = submit(*stub, sceneSpec("cornell", 16, 12, 1));
     ASSERT_TRUE(pt.status.ok()) << pt.status.error_message();
     pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
@@ -63,7 +63,7 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     // The chains' film, the odd half's and the direct light's film (direct per-pixel).
     EXPECT_NE(why.find("3 films"), std::string::npos) << "mlt's three films\n" << why;
     EXPECT_NE(why.find("mlt bootstrap 53.4 MiB"), std::string::npos) << why;
-    EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
+    EXPECT_NE(why.find("chains 4.0 MiB"), std::string::npos) << why;
     EXPECT_EQ(waitForEnd(*stub, pt.id, 60s).state(), pb::JOB_STATE_DONE);
 
     // Its film keeps at most `layers` + 1 type buffers (issue #24): the estimate does not grow
@@ -86,13 +86,12 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
 
 TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     TempDir store;
-    Daemon daemon(store.path(), {"--max-job-memory", "48"});
+    Daemon daemon(store.path(), {"--max-job-memory", "32"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12, K = 10, a time budget: ~58 MiB by the estimate: 11 films (K and the complement),
+    // 16x12, K = 10, a time budget: ~37 MiB by the estimate: 11 films (K and the complement),
     // the pre-pass's half-B records (the start-up rule's 100000 samples for a time budget:
-    // 50000 of ~13 records of 40 B: 24.8 MiB) and the 256 chains' splats and states as for mlt
-    // (24.5 MiB).
+    // 50000 of ~13 records of 40 B: 24.8 MiB) and the 256 chains' states as for mlt (4 MiB).
     pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
     spec.set_algorithm("partitioned");
     spec.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
@@ -103,7 +102,7 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     EXPECT_NE(why.find("11 films"), std::string::npos) << "one film per partition\n" << why;
     EXPECT_NE(why.find("11 partitions"), std::string::npos) << why;
     EXPECT_NE(why.find("pre-pass records 24.8 MiB"), std::string::npos) << why;
-    EXPECT_NE(why.find("chains and splats 24."), std::string::npos) << why;
+    EXPECT_NE(why.find("chains 4.0 MiB"), std::string::npos) << why;
     EXPECT_NE(why.find("(0 type buffers)"), std::string::npos) << "partition films\n" << why;
 
     // A smaller pre-pass (4000 samples: 1015.6 KiB of records) fits, and runs.
@@ -113,7 +112,7 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     ASSERT_TRUE(small.status.ok()) << small.status.error_message();
     EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
 
-    // So does mlt's bootstrap: 4000 samples instead of 100000 bring it under 48 MiB too.
+    // So does mlt's bootstrap: 4000 samples instead of 100000 bring it under 32 MiB too.
     pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);
     mlt.set_algorithm("mlt");
     mlt.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);

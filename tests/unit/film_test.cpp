@@ -385,6 +385,31 @@ TEST(Film, ConcurrentAddOnDistinctTilesMatchesSerial) {
     expectBytewiseEqual(serial.resolve(0.5f, 3), parallel.resolve(0.5f, 3));
 }
 
+TEST(Film, SharedAddsFromManyThreadsOnTheSameTilesMatchSerial) {
+    // The MCMC chains' case: every thread adds anywhere, so threads meet in one tile (a small
+    // film of 4 tiles, 8 threads, each taking every 8th sample in turn). The tile locks keep
+    // the sums whole and the fixed-point sums make their order irrelevant: bit for bit the
+    // serial film, with the same types in it.
+    const int w = 32, h = 32, threads = 8;
+    const auto samples = randomSamples(w, h, 200000, 17, /*dyadic=*/false);
+    Film serial(w, h), shared(w, h);
+    addAll(serial, samples);
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (size_t i = size_t(t); i < samples.size(); i += threads)
+                shared.addSampleShared(samples[i].x, samples[i].y, samples[i].type,
+                                       samples[i].value);
+        });
+    for (auto& th : pool) th.join();
+    EXPECT_EQ(serial.typeCount(), shared.typeCount());
+    expectBytewiseEqual(serial.resolve(0.5f, 8), shared.resolve(0.5f, 8));
+    // A sample outside the film is ignored, as by addSample.
+    shared.addSampleShared(-1, 3, someTypes()[0], Rgb(1.0f));
+    shared.addSampleShared(w, 3, someTypes()[0], Rgb(1.0f));
+    expectBytewiseEqual(serial.resolve(0.5f, 8), shared.resolve(0.5f, 8));
+}
+
 TEST(Film, ResolveOnAPoolEqualsSerialBitForBit) {
     // Non-dyadic values, edge tiles on both sides, an odd scale: spreading resolve over threads
     // must not change a single bit, for any number of kept layers ("other" sums many types).

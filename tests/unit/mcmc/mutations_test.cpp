@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "camera.h"
 #include "film.h"
@@ -397,6 +400,64 @@ TEST(Mutations, IndependenceMutationWithoutItsDensityRatioShowsAsBias) {
         1000, /*share=*/1.0);
     EXPECT_GT(c.worst, 1.0) << "an independence mutation without p(x) / p(y) went unnoticed: "
                             << c.where;
+}
+
+TEST(MarkovChain, DeferredSplatsAddUpToTheSameSumsWithFewerSplats) {
+    // Two chains of one start and RNG stream, one splatting every step (step) and one holding
+    // the current state's weight back until it moves (stepDeferred, then flush): they visit the
+    // same states, and per (raster position, type) their splats sum to the same value, only
+    // rounded differently; the deferred chain splats fewer times. A flush that lost a weight
+    // (or one splat too many) would show in the sums.
+    SceneUnderTest s(shippedScene("cornell-glass"));
+    BidirectionalMutation bidirectional(s.scene, s.camera, kMaxDepth);
+    LensPerturbation lens(s.scene, s.camera, PerturbationRange{0.1f, 1.6f});
+    IndependenceMutation independent(s.scene, s.camera, kMaxDepth);
+    Rng startRng(77, 1);
+    MarkovPath start;
+    uint64_t rays = 0;
+    while (!independent.sample(startRng, start, rays)) {
+    }
+    auto chainOf = [&] {
+        return MarkovChain({{&bidirectional, 0.5}, {&lens, 0.5}, {&independent, 0.1, true}}, {},
+                           start, Rng(77, 2));
+    };
+    using Key = std::tuple<float, float, uint64_t, int>;
+    auto keyOf = [](Vec2f r, PathType t) {
+        return Key{r.x, r.y, t.specularMask(), t.scatteringVertices()};
+    };
+    std::map<Key, std::array<double, 3>> every, deferred;
+    size_t everyCount = 0, deferredCount = 0;
+    auto into = [&](std::map<Key, std::array<double, 3>>& sums, size_t& count) {
+        return [&sums, &count, &keyOf](Vec2f r, PathType t, Rgb v) {
+            auto& sum = sums[keyOf(r, t)];
+            for (int k = 0; k < 3; ++k) sum[size_t(k)] += double(v[k]);
+            ++count;
+        };
+    };
+    MarkovChain a = chainOf(), b = chainOf();
+    const int steps = 4000;
+    int moves = 0;
+    for (int i = 0; i < steps; ++i) {
+        bool movedA = a.step(into(every, everyCount));
+        bool movedB = b.stepDeferred(into(deferred, deferredCount));
+        ASSERT_EQ(movedA, movedB) << "step " << i;
+        moves += movedA;
+        if (i == steps / 2) b.flush(into(deferred, deferredCount));  // a round's end
+    }
+    b.flush(into(deferred, deferredCount));
+    EXPECT_EQ(a.state().raster.x, b.state().raster.x);
+    EXPECT_EQ(a.state().raster.y, b.state().raster.y);
+    EXPECT_GT(moves, steps / 10);
+    // The proposals' splats are the same; the current state's come once per move (and flush)
+    // instead of at every step that did not accept for sure (at least every rejection).
+    EXPECT_LE(deferredCount, everyCount - size_t(steps - moves) + size_t(moves) + 2);
+    EXPECT_LT(deferredCount, everyCount) << "the current state's weights were not held back";
+    ASSERT_EQ(every.size(), deferred.size());
+    for (const auto& [key, sum] : every) {
+        const auto& other = deferred.at(key);
+        for (size_t k = 0; k < 3; ++k)
+            EXPECT_NEAR(other[k], sum[k], 1e-5 * std::max(1.0, std::fabs(sum[k])));
+    }
 }
 
 }  // namespace
