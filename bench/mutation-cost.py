@@ -13,7 +13,11 @@ pt and mlt within a round keeps a shared machine's load drifts out of most of th
 table gives the median over rounds with the spread.
 
     bench/mutation-cost.py [--threads 1] [--rounds 3] [--size 256x192] [--spp 16] [--mpp 32]
-                           [--scenes cornell cornell-glass ...] [--local PATH]
+                           [--scenes cornell cornell-glass ...] [--local PATH] [--baseline PATH]
+
+With --baseline (another build's partita-local), each round also renders mlt with it right
+after the first, and the table adds its cost per mutation and the ratio of the two, pair by
+pair, and a line with the ratio of the best rounds.
 """
 import argparse
 import os
@@ -40,9 +44,9 @@ def stats_of(exr):
     return stats
 
 
-def render(args, scene, algorithm, budget, exr):
+def render(args, scene, algorithm, budget, exr, local=None):
     width, height = args.size.split("x")
-    command = [args.local, "render", f"scenes/{scene}/{scene}.gltf", "--algorithm", algorithm,
+    command = [local or args.local, "render", f"scenes/{scene}/{scene}.gltf", "--algorithm", algorithm,
                "--width", width, "--height", height, "--threads", str(args.threads), "--quiet",
                "--preview-interval", "0", "--seed", "1", "--out", exr] + budget
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
@@ -58,6 +62,7 @@ def main():
     parser.add_argument("--spp", type=float, default=16)
     parser.add_argument("--mpp", type=float, default=32)
     parser.add_argument("--scenes", nargs="+", default=SCENES)
+    parser.add_argument("--baseline", help="another partita-local to compare mutations with")
     args = parser.parse_args()
     os.chdir(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
     width, height = (int(v) for v in args.size.split("x"))
@@ -68,23 +73,39 @@ def main():
         for _ in range(args.rounds):
             for scene in args.scenes:
                 pt = render(args, scene, "pt", ["--spp", str(args.spp)], exr)
-                mlt = render(args, scene, "mlt", ["--mpp", str(args.mpp), "--param",
-                                                  "direct=chains"], exr)
+                mlt_budget = ["--mpp", str(args.mpp), "--param", "direct=chains"]
+                mlt = render(args, scene, "mlt", mlt_budget, exr)
                 pt_sample = pt["render_seconds"] / (args.spp * pixels)
                 mutation = mlt["render_seconds"] / mlt["mutations"]
-                rows[scene].append((mutation / pt_sample, 1e9 * mutation, 1e9 * pt_sample))
+                row = [mutation / pt_sample, 1e9 * mutation, 1e9 * pt_sample]
+                if args.baseline:
+                    base = render(args, scene, "mlt", mlt_budget, exr, args.baseline)
+                    row.append(1e9 * base["render_seconds"] / base["mutations"])
+                rows[scene].append(row)
     print(f"threads {args.threads}, {args.size}, pt {args.spp:g} spp, mlt {args.mpp:g} mpp "
           f"(direct=chains), {args.rounds} rounds; median [min, max]")
-    print("| scene | mutation / pt sample | ns per mutation | ns per pt sample |")
-    print("|---|---|---|---|")
+    columns = ["mutation / pt sample", "ns per mutation", "ns per pt sample"]
+    if args.baseline:
+        columns.append("baseline's ns per mutation")
+        for values in rows.values():
+            for row in values:
+                row.append(row[1] / row[3])
+        columns.append("mutation / baseline's")
+    print("| scene | " + " | ".join(columns) + " |")
+    print("|---" * (len(columns) + 1) + "|")
     for scene, values in rows.items():
         cells = []
-        for column in range(3):
+        for column in range(len(columns)):
             v = [row[column] for row in values]
-            fmt = "{:.2f}" if column == 0 else "{:.0f}"
+            fmt = "{:.0f}" if column in (1, 2, 3) else "{:.2f}"
             cells.append(f"{fmt.format(statistics.median(v))} "
                          f"[{fmt.format(min(v))}, {fmt.format(max(v))}]")
         print(f"| {scene} | " + " | ".join(cells) + " |")
+    if args.baseline:
+        # On a machine whose speed drifts, the fastest run of each is the least disturbed.
+        print("best of rounds, mutation / baseline's: " + ", ".join(
+            f"{scene} {min(r[1] for r in v) / min(r[3] for r in v):.2f}"
+            for scene, v in rows.items()))
 
 
 if __name__ == "__main__":

@@ -57,30 +57,35 @@ class MarkovChain {
     }
 
     /// step() with the current state's splats deferred: while the chain stays, its weights
-    /// (1 - a a step) add up and reach `splat` as one splat when it moves, or at flush(). The
-    /// image is the same sum with one film add per move instead of one per step (the film's
-    /// adds are a chain's largest cost after tracing, issue #22 4). Call flush(splat) before
-    /// the splats are read.
+    /// (1 - a a step) add up and reach `splat` as one splat when it moves, or at flush(); a
+    /// proposal that is accepted starts that sum with its own weight a instead of a splat of its
+    /// own. The image is the same sum with one film add per move and one per rejected proposal,
+    /// instead of two per step (the film's adds are a chain's largest cost after tracing, issue
+    /// #22 4). Call flush(splat) before the splats are read.
     template <typename Splat>
     bool stepDeferred(Splat&& splat) {
+        PendingSplat proposal;
         auto splatState = [&](const MarkovPath& s, double weight) {
             if (&s != &current_) {
-                splat(s.raster, s.type, s.f * float(weight / double(s.fStar)));
+                proposal = {s.raster, s.type, s.f, double(s.fStar), weight};
                 return;
             }
             if (pending_.weight == 0) pending_ = {s.raster, s.type, s.f, double(s.fStar), 0};
             pending_.weight += weight;
         };
         bool moved = stepWith(splatState);
-        if (moved) flush(splat);
+        if (moved) {
+            flush(splat);
+            pending_ = proposal;  // the new current state, with its weight a of this step
+        } else if (proposal.weight > 0) {
+            splatPending(proposal, splat);
+        }
         return moved;
     }
     /// Hands the current state's deferred weight (stepDeferred) to `splat`.
     template <typename Splat>
     void flush(Splat&& splat) {
-        if (pending_.weight > 0)
-            splat(pending_.raster, pending_.type,
-                  pending_.f * float(pending_.weight / pending_.fStar));
+        splatPending(pending_, splat);
         pending_.weight = 0;
     }
 
@@ -127,14 +132,19 @@ class MarkovChain {
     Rng rng_;
     std::vector<MutationStats> stats_;
     uint64_t rays_ = 0;
-    /// The current state's splat that stepDeferred holds back: f / f* times the summed weight.
+    /// A splat that stepDeferred holds back: f / f* times the summed weight.
     struct PendingSplat {
         Vec2f raster;
         PathType type;
         Rgb f;
         double fStar = 1;
         double weight = 0;
-    } pending_;
+    };
+    template <typename Splat>
+    static void splatPending(const PendingSplat& p, Splat&& splat) {
+        if (p.weight > 0) splat(p.raster, p.type, p.f * float(p.weight / p.fStar));
+    }
+    PendingSplat pending_;  // the current state's
 };
 
 }  // namespace partita
