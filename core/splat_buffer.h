@@ -1,5 +1,6 @@
-// Splats that land anywhere on the film (light tracing, later MLT), gathered and added in a way
-// that keeps float sums accurate and deterministic.
+// Splats that land anywhere on the film (light tracing; the MCMC chains add theirs to the film
+// directly, chain_runner.h), gathered and added in a way that keeps float sums accurate and
+// deterministic.
 //
 // Why: a pixel that light tracing hits from every light path (a point light seen directly, a
 // bright caustic) receives millions of tiny splats. Added one by one into a float sum, each
