@@ -54,10 +54,9 @@ bool TypePattern::parse(const std::string& text, TypePattern& out) {
             runs.push_back({specular, 1, false});
         }
     }
-    int vertices = 0;
-    for (const Run& r : runs) vertices += r.length;
-    if (vertices > PathType::kMaxScatteringVertices) return false;
-    out = TypePattern(std::move(runs));
+    TypePattern p(std::move(runs));
+    if (p.minVertices_ > PathType::kMaxScatteringVertices) return false;
+    out = std::move(p);
     return true;
 }
 
