@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Install the Debian packages of scripts/packages.txt that are missing, then try the optional
-# ones of scripts/packages-slurm.txt (without them the Slurm tests skip, saying why).
+# Install the Debian packages of scripts/packages.txt and scripts/packages-test.txt that are
+# missing, then try the optional ones of scripts/packages-slurm.txt (without them the Slurm tests
+# skip, saying why).
 # Idempotent and quick when everything is already there (dpkg queries, no apt call).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -14,7 +15,7 @@ missing_of() {
   done
 }
 
-mapfile -t required < <(missing_of "$here/packages.txt")
+mapfile -t required < <(missing_of "$here/packages.txt"; missing_of "$here/packages-test.txt")
 mapfile -t optional < <(missing_of "$here/packages-slurm.txt")
 # A failed optional install is not retried on every build (remove the marker to retry).
 optional_failed=/var/tmp/partita-slurm-packages-failed

@@ -26,6 +26,13 @@ class TokenAuth {
     bool enabled() const { return !token_.empty(); }
     /// OK, or UNAUTHENTICATED saying what is missing. Never echoes the token.
     grpc::Status check(const grpc::ServerContextBase& context) const;
+    /// The same check of an authorization value ("Bearer <token>") that came another way (the
+    /// dashboard's HTTP header).
+    grpc::Status checkAuthorization(std::string_view value) const;
+    /// Whether `given` is the token (constant time): the dashboard's cookie carries it bare.
+    bool matches(std::string_view given) const {
+        return enabled() && constantTimeEquals(given, token_);
+    }
 
   private:
     std::string token_;

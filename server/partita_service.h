@@ -12,7 +12,7 @@
 
 #include "auth.h"
 #include "executor.h"
-#include "job_manager.h"
+#include "job_api.h"
 #include "proto.h"
 #include "reject_log.h"
 #include "scene_source.h"
@@ -56,16 +56,7 @@ class PartitaService final : public RawPartitaService {
     /// The status as sent (message bounded), logged when it is a refusal.
     grpc::Status outcome(Context* c, const char* method, const grpc::Status& status);
 
-    grpc::Status submitJob(const pb::SubmitJobRequest& request, pb::SubmitJobResponse& response);
-    grpc::Status getJob(const pb::GetJobRequest& request, pb::Job& response);
-    grpc::Status listJobs(const pb::ListJobsRequest& request, pb::ListJobsResponse& response);
-    grpc::Status listScenes(pb::ListScenesResponse& response);
-    grpc::Status serverInfo(pb::ServerInfo& response);
-    /// The file FetchResult sends, or why not.
-    grpc::Status resultFile(const pb::FetchResultRequest& request, std::filesystem::path& file);
-
-    JobManager& jobs_;
-    const SceneSource& scenes_;
+    JobApi api_;
     const ServiceLimits& limits_;
     const TokenAuth& auth_;
     Executor& executor_;

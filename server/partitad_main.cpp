@@ -16,6 +16,7 @@
 
 #include "algorithm.h"
 #include "auth.h"
+#include "dashboard_server.h"
 #include "executor.h"
 #include "job_manager.h"
 #include "job_memory.h"
@@ -75,6 +76,18 @@ int run(const ServerOptions& options, const sigset_t& signals) {
     builder.SetMaxReceiveMessageSize(int(maxMessage));
     std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
     if (!server || port == 0) throw std::runtime_error("cannot listen on '" + options.listen + "'");
+    JobApi api(manager, scenes, options.limits);
+    std::unique_ptr<dashboard::DashboardServer> dashboard;
+    if (!options.http.empty()) {
+        dashboard = std::make_unique<dashboard::DashboardServer>(
+            api, auth, dashboard::DashboardOptions{options.http, options.tlsCert, options.tlsKey});
+        int httpPort = dashboard->start();
+        if (!options.httpPortFile.empty())
+            JobStore::writeFileAtomic(options.httpPortFile, std::to_string(httpPort) + "\n");
+        spdlog::info("dashboard on {}://{} (port {})", options.tlsCert.empty() ? "http" : "https",
+                     options.http, httpPort);
+    }
+    // Written last: a client that sees it finds the dashboard listening too.
     if (!options.portFile.empty())
         JobStore::writeFileAtomic(options.portFile, std::to_string(port) + "\n");
 
@@ -92,15 +105,15 @@ int run(const ServerOptions& options, const sigset_t& signals) {
     }
     spdlog::info("{}: shutting down", strsignal(sig));
     if (auto* health = server->GetHealthCheckService()) health->SetServingStatus(false);
-    manager.shutdown();
+    manager.shutdown();  // ends every watch, the dashboard's event streams included
+    if (dashboard) dashboard->stop();
     // In-flight calls get a moment to finish; then the rest are cancelled. (gRPC also waits for
     // idle client connections to close until the deadline, so it is kept short.)
     server->Shutdown(std::chrono::system_clock::now() + std::chrono::milliseconds(500));
     server.reset();
-    if (!options.portFile.empty()) {
-        std::error_code ec;
-        std::filesystem::remove(options.portFile, ec);
-    }
+    std::error_code ec;
+    if (!options.portFile.empty()) std::filesystem::remove(options.portFile, ec);
+    if (!options.httpPortFile.empty()) std::filesystem::remove(options.httpPortFile, ec);
     spdlog::info("stopped");
     return 0;
 }

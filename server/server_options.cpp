@@ -65,6 +65,11 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
                    "file holding the token clients must send as 'authorization: Bearer <token>'");
     app.add_flag("--insecure", o.insecure, "allow a non-loopback address without TLS and token");
     app.add_option("--port-file", o.portFile, "write the bound port to this file once listening");
+    app.add_option("--http", o.http,
+                   "serve the browser dashboard on host:port (port 0: any free port); off when "
+                   "not given. The same TLS, token and loopback rules as --listen");
+    app.add_option("--http-port-file", o.httpPortFile,
+                   "write the dashboard's bound port to this file once listening");
     app.add_option("--log-level", o.logLevel, "trace, debug, info, warn, error")
         ->capture_default_str();
     app.add_option("--max-width", o.limits.maxWidth, "largest image width")->capture_default_str();
@@ -175,6 +180,14 @@ std::string finalizeServerOptions(ServerOptions& o) {
                "' without TLS and a token: give --tls-cert, --tls-key and --token-file, or "
                "--insecure "
                "to allow it anyway";
+    if (!o.http.empty()) {
+        if (o.http.rfind("unix", 0) == 0 || o.http.find(':') == std::string::npos)
+            return "--http takes host:port, not '" + o.http + "'";
+        if (!isLoopbackAddress(o.http) && !(tls && token) && !o.insecure)
+            return "refusing to serve the dashboard on non-loopback address '" + o.http +
+                   "' without TLS and a token: give --tls-cert, --tls-key and --token-file, or "
+                   "--insecure to allow it anyway";
+    }
     if (o.sceneRoot.empty()) {
         std::error_code ec;
         if (fs::is_directory("scenes", ec)) o.sceneRoot = "scenes";

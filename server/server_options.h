@@ -1,6 +1,7 @@
 // partitad's command line (DESIGN.md "Command lines"; keep these flags stable):
 //   partitad --listen 127.0.0.1:50051 --store DIR --scene-root DIR [--threads N] [--max-jobs N]
 //            [--tls-cert F --tls-key F --token-file F] [--insecure] [--port-file F] [limits...]
+//            [--http ADDR [--http-port-file F]]
 //            [--executor local|slurm [--slurm-shards N] [--slurm-cpus-per-task N]
 //             [--slurm-partition P] [--slurm-worker PATH] [--slurm-poll-seconds S]]
 #pragma once
@@ -20,8 +21,10 @@ struct ServerOptions {
     int threads = 0;                  // render threads shared by all jobs; 0 = one per core
     int maxJobs = 2;                  // jobs rendering at the same time
     std::filesystem::path tlsCert, tlsKey, tokenFile;
-    bool insecure = false;           // allow a non-loopback address without TLS + token
-    std::filesystem::path portFile;  // where to write the bound port (use with port 0)
+    bool insecure = false;               // allow a non-loopback address without TLS + token
+    std::filesystem::path portFile;      // where to write the bound port (use with port 0)
+    std::string http;                    // the dashboard's host:port; empty: no dashboard
+    std::filesystem::path httpPortFile;  // where to write the dashboard's bound port
     std::string logLevel = "info";
     ServiceLimits limits;
     ClusterOptions cluster;  // --executor and the --slurm-* flags

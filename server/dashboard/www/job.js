@@ -1,0 +1,142 @@
+// One job: its state, progress, previews (the combined image and one tile per partition or type
+// layer), partition table, parameters and statistics, fed by the job's server-sent events
+// (GET /api/jobs/ID/events); cancel and downloads.
+"use strict";
+
+const jobId = new URLSearchParams(window.location.search).get("id") || "";
+const errorSeries = new Map();  // plot: name -> [[elapsed seconds, relative RMSE estimate]]
+let frames = 0;
+
+function setState(job) {
+  const state = stateName(job.state);
+  const badge = document.getElementById("state");
+  badge.textContent = state;
+  badge.className = "state " + state;
+  document.getElementById("error").textContent = job.error || "";
+  document.getElementById("note").textContent = job.note || "";
+  document.getElementById("cancel").disabled = isTerminal(job.state);
+  for (const [id, file] of [["download-exr", "result.exr"], ["download-png", "preview.png"]]) {
+    const link = document.getElementById(id);
+    link.href = `/api/jobs/${encodeURIComponent(jobId)}/${file}`;
+    link.classList.toggle("disabled", state !== "DONE");
+  }
+  if (state === "DONE") setProgressBar(1);
+  showParameters(job.spec || {});
+  showStatistics(job.stats || {});
+  if (job.progress) showProgress(job.progress);
+}
+
+function setProgressBar(fraction) {
+  document.getElementById("progress-bar").style.width = (100 * fraction) + "%";
+}
+
+function showProgress(progress) {
+  setProgressBar(progressFraction(progress));
+  const parts = [progress.phase || ""];
+  if (progress.total) parts.push(`${formatNumber(progress.done)} / ${formatNumber(progress.total)} ${progress.unit || ""}`);
+  if (progress.rate_per_second) parts.push(formatRate(progress));
+  if (progress.elapsed_seconds) parts.push(formatDuration(progress.elapsed_seconds) + " elapsed");
+  if (progress.eta_seconds > 0) parts.push("ETA " + formatDuration(progress.eta_seconds));
+  document.getElementById("progress-text").textContent = parts.filter(Boolean).join(" · ");
+  if ((progress.partitions || []).length) showPartitions(progress.partitions);
+  recordError(progress);
+}
+
+function showPartitions(partitions) {
+  const rows = partitions.map((p) => el("tr", {},
+    el("td", { text: p.type }), el("td", { text: formatNumber(p.p) }),
+    el("td", { text: formatNumber(p.b) }), el("td", { text: p.estimator || "chains" }),
+    el("td", { text: formatNumber(p.acceptance) })));
+  document.querySelector("#partitions tbody").replaceChildren(...rows);
+}
+
+// The render's own error estimate (two interleaved halves), when it reports one.
+function recordError(progress) {
+  const values = progress.values || {};
+  const t = Number(progress.elapsed_seconds || 0);
+  for (const [key, value] of Object.entries(values)) {
+    if (!key.startsWith("error_estimate")) continue;
+    const name = key === "error_estimate" ? "combined" : key.slice("error_estimate/".length);
+    if (!errorSeries.has(name)) errorSeries.set(name, []);
+    errorSeries.get(name).push([t, Number(value)]);
+  }
+  const drawn = drawPlot(document.getElementById("plot"), errorSeries);
+  document.getElementById("plot").dataset.points = String(drawn);
+  document.getElementById("plot-note").textContent = drawn
+    ? "relative RMSE estimated from two interleaved halves of the render"
+    : "no error estimate reported yet";
+}
+
+function keyValueRows(entries) {
+  return entries.map(([k, v]) => el("tr", {}, el("td", { text: k }), el("td", { text: v })));
+}
+
+function showParameters(spec) {
+  const entries = [["algorithm", spec.algorithm || ""], ["scene", sceneText(spec)]];
+  if (spec.budget) entries.push(["budget", `${formatNumber(spec.budget.amount)} ${(spec.budget.kind || "").replace("BUDGET_KIND_", "").toLowerCase()}`]);
+  if (spec.label) entries.push(["label", spec.label]);
+  for (const [name, value] of Object.entries(spec.parameters || {}).sort())
+    entries.push([name, parameterText(value)]);
+  document.querySelector("#parameters tbody").replaceChildren(...keyValueRows(entries));
+}
+
+function showStatistics(stats) {
+  const entries = Object.entries(stats).sort().map(([k, v]) => [k, formatNumber(v)]);
+  document.querySelector("#statistics tbody").replaceChildren(...keyValueRows(entries));
+}
+
+function showFrame(frame) {
+  const layers = frame.layers || [];
+  frames += 1;
+  document.getElementById("frame-count").textContent =
+    `frame ${frame.sequence || 0}${frame.final ? " (final)" : ""}`;
+  document.getElementById("combined").dataset.frames = String(frames);
+  const tiles = document.getElementById("tiles");
+  for (const layer of layers) {
+    const src = "data:image/png;base64," + layer.png;
+    if (layer.name === "combined") {
+      document.getElementById("combined").src = src;
+      continue;
+    }
+    let figure = tiles.querySelector(`figure[data-layer="${CSS.escape(layer.name)}"]`);
+    if (!figure) {
+      figure = el("figure", { "data-layer": layer.name },
+        el("img", { alt: layer.name }), el("figcaption", { text: layer.name }));
+      tiles.append(figure);
+    }
+    const img = figure.querySelector("img");
+    img.src = src;
+    img.dataset.updates = String(Number(img.dataset.updates || 0) + 1);
+  }
+}
+
+function watch() {
+  const events = new EventSource(`/api/jobs/${encodeURIComponent(jobId)}/events`);
+  events.addEventListener("state", (e) => setState(JSON.parse(e.data)));
+  events.addEventListener("progress", (e) => showProgress(JSON.parse(e.data)));
+  events.addEventListener("frame", (e) => showFrame(JSON.parse(e.data)));
+  events.addEventListener("end", (e) => {
+    document.getElementById("note").textContent = JSON.parse(e.data).error;
+    events.close();
+  });
+  // The stream ends after the terminal state; EventSource would reconnect: stop it then.
+  events.onerror = () => {
+    if (isTerminal("JOB_STATE_" + document.getElementById("state").textContent)) events.close();
+  };
+}
+
+async function start() {
+  document.getElementById("job-id").textContent = jobId;
+  document.title = "Partita — job " + jobId;
+  document.getElementById("cancel").addEventListener("click", async () => {
+    try {
+      setState(await api.send("POST", `/api/jobs/${encodeURIComponent(jobId)}/cancel`));
+    } catch (e) {
+      document.getElementById("error").textContent = e.message;
+    }
+  });
+  setState(await api.get(`/api/jobs/${encodeURIComponent(jobId)}`));
+  watch();
+}
+
+start().catch((e) => { document.getElementById("error").textContent = e.message; });

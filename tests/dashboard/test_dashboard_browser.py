@@ -1,0 +1,153 @@
+"""The dashboard in a real headless browser (Debian's chromium, driven through chromedriver by
+Selenium): submit a small `partitioned` job from the form, see preview frames arrive and a
+partition tile change, cancel a second job, and download the EXR, which must equal what
+`partita get` fetches over gRPC. Screenshots go to $PARTITA_ARTIFACTS/dashboard/.
+
+Where Chromium, chromedriver or Selenium is missing, the whole class is skipped saying which
+(ctest shows it as skipped, never as passed)."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+import unittest
+from pathlib import Path
+
+from dashboard_util import DashboardDaemon, artifacts_dir, main
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+
+
+def browser_missing() -> str:
+    for path in (CHROMIUM, CHROMEDRIVER):
+        if not os.access(path, os.X_OK):
+            return f"{path} is not installed (Debian packages chromium, chromium-driver)"
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        return "python3-selenium is not installed"
+    return ""
+
+
+def wait_for(condition, timeout, what):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.1)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+class DashboardBrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        reason = browser_missing()
+        if reason:
+            raise unittest.SkipTest(reason)
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+
+        cls.server = DashboardDaemon()
+        options = webdriver.ChromeOptions()
+        options.binary_location = CHROMIUM
+        for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
+                         "--disable-dev-shm-usage", "--window-size=1400,1100"):
+            options.add_argument(argument)
+        cls.profile = tempfile.mkdtemp(prefix="partita-chromium-")
+        options.add_argument("--user-data-dir=" + cls.profile)
+        try:
+            cls.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+        except Exception:
+            cls.server.stop()
+            raise
+        cls.driver.set_page_load_timeout(30)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.driver.quit()
+        cls.server.stop()
+        shutil.rmtree(cls.profile, ignore_errors=True)
+
+    def find(self, css):
+        from selenium.webdriver.common.by import By
+        return self.driver.find_element(By.CSS_SELECTOR, css)
+
+    def screenshot(self, name):
+        self.driver.save_screenshot(str(artifacts_dir() / name))
+
+    def set_field(self, css, value):
+        field = self.find(css)
+        field.clear()
+        field.send_keys(str(value))
+
+    def submit_from_form(self, algorithm, seconds, width, height, extra=None):
+        from selenium.webdriver.support.ui import Select
+        self.driver.get(self.server.base + "/")
+        wait_for(lambda: len(self.driver.find_elements("css selector", "#algorithm option")) > 1,
+                 20, "the algorithms from /api/info")
+        Select(self.find("#scene")).select_by_value("cornell")
+        Select(self.find("#algorithm")).select_by_value(algorithm)
+        Select(self.find("#budget-kind")).select_by_value("BUDGET_KIND_SECONDS")
+        self.set_field("#budget-amount", seconds)
+        self.set_field("#param-width", width)
+        self.set_field("#param-height", height)
+        for name, value in (extra or {}).items():
+            self.set_field("#param-" + name, value)
+        self.find("#submit-button").click()
+        wait_for(lambda: "/job?id=" in self.driver.current_url, 20, "the job page")
+        return self.driver.current_url.split("id=")[1]
+
+    def state(self):
+        return self.find("#state").text
+
+    def test_submit_watch_and_download_a_partitioned_job(self):
+        job_id = self.submit_from_form("partitioned", 8, 128, 96,
+                                       {"k": 3, "preview_interval": 0.5})
+        # Two frames at least, and a partition's tile replaced at least once after it appeared.
+        wait_for(lambda: int(self.find("#combined").get_attribute("data-frames") or 0) >= 2, 60,
+                 "two preview frames")
+        wait_for(lambda: any(int(img.get_attribute("data-updates") or 0) >= 2
+                             for img in self.driver.find_elements("css selector", "#tiles img")),
+                 60, "a partition tile to change")
+        rows = self.driver.find_elements("css selector", "#partitions tbody tr")
+        self.assertGreaterEqual(len(rows), 2, "the partition table lists the partitions")
+        self.screenshot("job-rendering.png")
+        wait_for(lambda: self.state() == "DONE", 90, "the job to finish")
+        self.screenshot("job-done.png")
+
+        # The page's EXR link is the one a user clicks; it must give partita get's bytes.
+        link = self.find("#download-exr")
+        self.assertNotIn("disabled", link.get_attribute("class"))
+        href = link.get_attribute("href")
+        status, _, exr = self.server.request("GET", href[len(self.server.base):])
+        self.assertEqual(status, 200)
+        with tempfile.TemporaryDirectory() as folder:
+            out = Path(folder) / "got.exr"
+            cli = os.environ["PARTITA_CLI_PATH"]
+            subprocess.run([cli, "--server", self.server.daemon.address, "get", job_id,
+                            "--out", str(out)], check=True, capture_output=True, timeout=60)
+            self.assertEqual(exr, out.read_bytes(), "the dashboard's EXR equals partita get's")
+
+        # The job list shows it, live.
+        self.driver.get(self.server.base + "/")
+        wait_for(lambda: self.driver.find_elements("css selector", f'tr[data-id="{job_id}"]'),
+                 20, "the job in the list")
+        self.assertIn("DONE", self.find(f'tr[data-id="{job_id}"]').text)
+        self.screenshot("jobs.png")
+
+    def test_cancel_from_the_job_page(self):
+        job_id = self.submit_from_form("pt", 600, 64, 48)
+        wait_for(lambda: self.state() == "RENDERING", 60, "the job to render")
+        self.find("#cancel").click()
+        wait_for(lambda: self.state() == "CANCELLED", 30, "the job to be cancelled")
+        status, job = self.server.json("GET", "/api/jobs/" + job_id)
+        self.assertEqual(job["state"], "JOB_STATE_CANCELLED")
+        self.assertEqual(self.find("#cancel").get_attribute("disabled"), "true")
+
+
+if __name__ == "__main__":
+    main()
