@@ -6,6 +6,7 @@
 
 #include "byte_stream.h"
 #include "clock.h"
+#include "half_split_error.h"
 #include "integrators/layer_survey.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
@@ -16,8 +17,9 @@ namespace {
 
 class SamplePassLoop {
   public:
-    SamplePassLoop(const RenderContext& ctx, SamplePassRenderer& renderer)
-        : ctx_(ctx), renderer_(renderer) {}
+    SamplePassLoop(const RenderContext& ctx, SamplePassRenderer& renderer,
+                   const SamplePassSettings& settings)
+        : ctx_(ctx), renderer_(renderer), settings_(settings) {}
 
     RenderResult run() {
         const RenderSettings& s = ctx_.settings;
@@ -31,14 +33,16 @@ class SamplePassLoop {
         uint64_t passSpp = 1;
         while (sppDone_ < targetSpp) {
             ctx_.throwIfCancelled();
-            uint64_t begin = sppDone_, end = std::min(targetSpp, sppDone_ + passSpp);
+            const uint64_t begin = sppDone_;
+            uint64_t end = std::min(targetSpp, sppDone_ + passSpp);
             auto passStart = Clock::now();
             std::clock_t passCpuStart = std::clock();
-            renderer_.renderPass({begin, end}, progress);
+            end = renderHalves({begin, end}, progress);
             double passSeconds = secondsSince(passStart);
             renderSeconds_ += passSeconds;
             renderCpuSeconds_ += double(std::clock() - passCpuStart) / CLOCKS_PER_SEC;
             sppDone_ = end;
+            if (reachedTarget()) break;
             double elapsed = secondsSince(start_);
             if (timed && elapsed >= s.budget) break;
             // A first preview right after the first (one-sample) pass, so that a watcher sees
@@ -63,6 +67,33 @@ class SamplePassLoop {
     }
 
   private:
+    /// Renders the pass sample index by sample index, adding each to the error estimate's
+    /// half (even indices half A, odd half B: half_split_error.h), and reports the estimate.
+    /// The image is the same as from one renderPass call (the renderer's contract). Returns
+    /// the end of the samples rendered: earlier than the pass's when the target error is
+    /// reached.
+    uint64_t renderHalves(SampleRange pass, ProgressReporter& progress) {
+        uint64_t s = pass.first;
+        while (s < pass.end) {
+            renderer_.renderPass({s, s + 1}, progress);
+            errorEstimate_.addRun(renderer_.combinedSums(), 1, s % 2 == 0);
+            ++s;
+            if (reachedTarget()) break;
+        }
+        if (errorEstimate_.ready())
+            progress.setValues({{"error_estimate", errorEstimate_.relativeRmse()}});
+        return s;
+    }
+
+    /// Whether the estimate reached the target error (trusted from kMinHalfSamples samples per
+    /// pixel in each half).
+    bool reachedTarget() {
+        reachedTarget_ = settings_.targetError > 0 &&
+                         errorEstimate_.ready(SamplePassSettings::kMinHalfSamples) &&
+                         errorEstimate_.relativeRmse() <= settings_.targetError;
+        return reachedTarget_;
+    }
+
     /// Passes sized to end when the next preview is due (so previews keep to their interval
     /// rather than waiting for a pass to finish), about a second without previews, and never
     /// past a time budget.
@@ -88,11 +119,16 @@ class SamplePassLoop {
         st.values["render_seconds"] = renderSeconds_;
         st.values["render_cpu_seconds"] = renderCpuSeconds_;
         renderer_.addStats(st, seconds);
+        if (errorEstimate_.ready()) st.values["error_estimate"] = errorEstimate_.relativeRmse();
+        if (settings_.targetError > 0) st.values["reached_target_error"] = reachedTarget_ ? 1 : 0;
         return st;
     }
 
     const RenderContext& ctx_;
     SamplePassRenderer& renderer_;
+    const SamplePassSettings settings_;
+    HalfSplitError errorEstimate_;
+    bool reachedTarget_ = false;
     Clock::time_point start_;
     uint64_t sppDone_ = 0;
     double renderSeconds_ = 0;     // sum of the passes' wall-clock times
@@ -101,14 +137,16 @@ class SamplePassLoop {
 
 }  // namespace
 
-RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer) {
-    return SamplePassLoop(ctx, renderer).run();
+RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer,
+                             const SamplePassSettings& settings) {
+    return SamplePassLoop(ctx, renderer, settings).run();
 }
 
-RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory) {
+RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory,
+                                const SamplePassSettings& settings) {
     const TypeLayers layers = surveyTypeLayers(ctx, factory);
     std::unique_ptr<SamplePassRenderer> renderer = factory(ctx, layers);
-    return runSamplePasses(ctx, *renderer);
+    return runSamplePasses(ctx, *renderer, settings);
 }
 
 namespace {
@@ -136,6 +174,9 @@ TypeLayers planLayers(std::span<const uint8_t> plan) {
 
 std::vector<uint8_t> SamplePassShards::plan(const RenderContext& ctx) {
     sampleBudget(ctx);
+    if (settings_.targetError > 0)
+        throw std::invalid_argument(
+            "a sharded pt/bdpt job renders its whole budget: leave target_error at 0");
     // The only thing fixed once: which types keep a layer. Every (pixel, sample) has its own
     // stream.
     ByteWriter w;

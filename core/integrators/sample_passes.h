@@ -11,6 +11,7 @@
 
 #include "algorithm.h"
 #include "film.h"
+#include "integrators/sample_pass_settings.h"
 #include "shard/shardable.h"
 
 namespace partita {
@@ -40,6 +41,9 @@ class SamplePassRenderer {
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).
     virtual uint64_t maxPassSamples() const { return 1024; }
+    /// The film's combined sums so far, unscaled (Film::resolveCombined(1)): the error estimate's
+    /// input after each pass (half_split_error.h).
+    virtual Image combinedSums() const = 0;
     /// A copy of everything rendered so far as one film (resolve(n) is film().resolve(1/n)).
     virtual Film film() const = 0;
     /// film(), moving it out where the renderer keeps it as one (a finished shard's result).
@@ -50,12 +54,17 @@ class SamplePassRenderer {
 using SamplePassFactory = std::function<std::unique_ptr<SamplePassRenderer>(
     const RenderContext& ctx, const TypeLayers& layers)>;
 
-/// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress.
-RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer);
+/// Runs `renderer` under ctx's budget (samples per pixel or seconds) with previews and progress,
+/// and the render's own error estimate after each pass (progress value and statistic
+/// "error_estimate", the combined image's relative RMSE from two interleaved halves of the
+/// passes); with settings.targetError > 0 it stops once the estimate reaches it.
+RenderResult runSamplePasses(const RenderContext& ctx, SamplePassRenderer& renderer,
+                             const SamplePassSettings& settings = {});
 
 /// A whole render: the type layers from the survey (layer_survey.h), then the renderer the
 /// factory makes for them, run by runSamplePasses.
-RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory);
+RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactory& factory,
+                                const SamplePassSettings& settings = {});
 
 /// The shards of a sample-based integrator: shard i of n renders a contiguous range of sample
 /// indices of every pixel (shareRange of the samples per pixel). Every (pixel, sample) has its
@@ -63,7 +72,9 @@ RenderResult renderSamplePasses(const RenderContext& ctx, const SamplePassFactor
 /// plan is the type layers (chosen once, by the survey).
 class SamplePassShards : public Shardable {
   public:
-    explicit SamplePassShards(SamplePassFactory factory) : factory_(std::move(factory)) {}
+    /// A sharded job renders its whole budget: a target error is refused (plan()).
+    explicit SamplePassShards(SamplePassFactory factory, SamplePassSettings settings = {})
+        : factory_(std::move(factory)), settings_(settings) {}
     std::vector<uint8_t> plan(const RenderContext& ctx) override;
     ShardWork renderShard(const RenderContext& ctx, std::span<const uint8_t> plan, uint32_t shard,
                           uint32_t shards) override;
@@ -73,6 +84,7 @@ class SamplePassShards : public Shardable {
 
   private:
     SamplePassFactory factory_;
+    SamplePassSettings settings_;
 };
 
 }  // namespace partita

@@ -1,7 +1,7 @@
 """The dashboard in a real headless browser (Debian's chromium, driven through chromedriver by
 Selenium): submit a small `partitioned` job from the form, see preview frames arrive and a
-partition tile change, cancel a second job, and download the EXR, which must equal what
-`partita get` fetches over gRPC. Screenshots go to $PARTITA_ARTIFACTS/dashboard/.
+partition tile change, download the EXR, which must equal what `partita get` fetches over gRPC;
+see a `pt` job's convergence plot gain points, and cancel it. Screenshots go to $PARTITA_ARTIFACTS/dashboard/.
 
 Where Chromium, chromedriver or Selenium is missing, the whole class is skipped saying which
 (ctest shows it as skipped, never as passed)."""
@@ -139,11 +139,24 @@ class DashboardBrowserTest(unittest.TestCase):
         self.assertIn("DONE", self.find(f'tr[data-id="{job_id}"]').text)
         self.screenshot("jobs.png")
 
-    def test_cancel_from_the_job_page(self):
-        job_id = self.submit_from_form("pt", 600, 64, 48)
+    def test_convergence_plot_and_cancel_from_the_job_page(self):
+        job_id = self.submit_from_form("pt", 600, 64, 48, {"preview_interval": 0.25})
         wait_for(lambda: self.state() == "RENDERING", 60, "the job to render")
+        # pt reports its own error estimate (two interleaved halves) with its progress: the
+        # plot gains points as the render goes on.
+        plot = lambda: int(self.find("#plot").get_attribute("data-points") or 0)
+        first = wait_for(plot, 60, "the convergence plot's first point")
+        wait_for(lambda: plot() > first, 60, "the convergence plot to gain points")
+        self.screenshot("job-convergence.png")
         self.find("#cancel").click()
-        wait_for(lambda: self.state() == "CANCELLED", 30, "the job to be cancelled")
+        try:
+            wait_for(lambda: self.state() == "CANCELLED", 30, "the job to be cancelled")
+        except AssertionError:
+            self.screenshot("cancel-failed.png")
+            shutil.copy(self.server.daemon.log_path, artifacts_dir() / "partitad-cancel-failed.log")
+            status, job = self.server.json("GET", "/api/jobs/" + job_id)
+            raise AssertionError(f"page state {self.state()!r}, page error "
+                                 f"{self.find('#error').text!r}, job {job.get('state')}")
         status, job = self.server.json("GET", "/api/jobs/" + job_id)
         self.assertEqual(job["state"], "JOB_STATE_CANCELLED")
         self.assertEqual(self.find("#cancel").get_attribute("disabled"), "true")

@@ -29,6 +29,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"environment", ""},  // need a named camera and an image file
         {"environment_color", "0.5,0.25,1"},
         {"environment_rotation", "45"},
+        {"target_error", "0.5"},
         {"k", "2"},
         {"prepass", "pt"},
         {"bootstrap", "2000"},

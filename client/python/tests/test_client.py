@@ -197,7 +197,7 @@ class ClientTest(unittest.TestCase):
                          ["k", "partitions", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
                           "estimators", "allocation", "pilot_share", "large_step_rate", "y",
                           "radius", "epsilon"])
-        self.assertEqual(algorithms["pt"].own_parameters(), [])
+        self.assertEqual([p.name for p in algorithms["pt"].own_parameters()], ["target_error"])
 
     def test_submit_checks_parameter_names_before_sending(self):
         with self.assertRaises(ValueError) as ctx:

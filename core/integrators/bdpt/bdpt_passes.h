@@ -38,6 +38,7 @@ class BdptPasses : public SamplePassRenderer {
     void renderPass(SampleRange range, ProgressReporter& progress) override;
     LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override;
     LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override;
+    Image combinedSums() const override { return film_.resolveCombined(1.0f); }
     Film film() const override;
     Film takeFilm() override { return std::move(film_); }
     void addStats(RenderStats& st, double seconds) const override;

@@ -57,6 +57,8 @@ class PathTracerPasses : public SamplePassRenderer {
         return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
+    Image combinedSums() const override { return film_.resolveCombined(1.0f); }
+
     Film film() const override {
         Film copy(film_.width(), film_.height(), film_.layers());
         copy.merge(film_);
@@ -126,27 +128,25 @@ std::unique_ptr<SamplePassRenderer> makeRestrictedPathTracerPasses(const RenderC
     return std::make_unique<PathTracerPasses>(ctx, layers, std::move(key));
 }
 
-PathTracerAlgorithm::PathTracerAlgorithm() = default;
+PathTracerAlgorithm::PathTracerAlgorithm(SamplePassSettings settings) : settings_(settings) {}
 PathTracerAlgorithm::~PathTracerAlgorithm() = default;
 
 RenderResult PathTracerAlgorithm::render(const RenderContext& ctx) {
-    return renderSamplePasses(ctx, makePathTracerPasses);
+    return renderSamplePasses(ctx, makePathTracerPasses, settings_);
 }
 
 Shardable* PathTracerAlgorithm::shardable() {
-    if (!shards_) shards_ = std::make_unique<SamplePassShards>(makePathTracerPasses);
+    if (!shards_) shards_ = std::make_unique<SamplePassShards>(makePathTracerPasses, settings_);
     return shards_.get();
 }
 
 void registerPathTracer() {
-    // No parameters of its own: the shared ones (render_settings.h) are all it reads.
-    AlgorithmRegistry::instance().add(
-        {"pt",
-         "unidirectional path tracer with next-event estimation and MIS "
-         "(the reference; per-type layers)",
-         BudgetKind::SamplesPerPixel,
-         [](const ParameterValues&) { return std::make_unique<PathTracerAlgorithm>(); },
-         /*orthographicCamera=*/true, /*parameters=*/{}});
+    // The shared parameters (render_settings.h) and the sample-pass loop's (target_error).
+    AlgorithmRegistry::instance().add(algorithmEntry<PathTracerAlgorithm>(
+        "pt",
+        "unidirectional path tracer with next-event estimation and MIS "
+        "(the reference; per-type layers)",
+        BudgetKind::SamplesPerPixel, samplePassParameters(), /*orthographicCamera=*/true));
 }
 
 }  // namespace partita

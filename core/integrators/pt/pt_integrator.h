@@ -8,6 +8,7 @@
 
 #include "algorithm.h"
 #include "integrators/contribution_key.h"
+#include "integrators/sample_pass_settings.h"
 #include "math/vec.h"
 #include "rng.h"
 
@@ -37,12 +38,13 @@ std::unique_ptr<SamplePassRenderer> makeRestrictedPathTracerPasses(const RenderC
 
 class PathTracerAlgorithm : public Algorithm {
   public:
-    PathTracerAlgorithm();
+    explicit PathTracerAlgorithm(SamplePassSettings settings = {});
     ~PathTracerAlgorithm() override;
     RenderResult render(const RenderContext& ctx) override;
     Shardable* shardable() override;
 
   private:
+    SamplePassSettings settings_;
     std::unique_ptr<Shardable> shards_;
 };
 

@@ -7,7 +7,13 @@ const jobId = new URLSearchParams(window.location.search).get("id") || "";
 const errorSeries = new Map();  // plot: name -> [[elapsed seconds, relative RMSE estimate]]
 let frames = 0;
 
+let terminalSeen = false;
+
 function setState(job) {
+  // A terminal state is final: an answer that was in flight when the events brought it (the
+  // cancel request's, which still says RENDERING) must not take the page back.
+  if (terminalSeen && !isTerminal(job.state)) return;
+  terminalSeen = isTerminal(job.state);
   const state = stateName(job.state);
   const badge = document.getElementById("state");
   badge.textContent = state;
@@ -120,9 +126,7 @@ function watch() {
     events.close();
   });
   // The stream ends after the terminal state; EventSource would reconnect: stop it then.
-  events.onerror = () => {
-    if (isTerminal("JOB_STATE_" + document.getElementById("state").textContent)) events.close();
-  };
+  events.onerror = () => { if (terminalSeen) events.close(); };
 }
 
 async function start() {

@@ -216,7 +216,7 @@ TEST(Parameters, UnknownNamesAreRefusedNamingThemAndTheAlgorithmsParameters) {
     EXPECT_EQ(applyJobParameters(pt, given, s),
               "unknown parameter 'radius' for pt (its parameters: width, height, camera, seed, "
               "max_depth, layers, preview_interval, environment, environment_color, "
-              "environment_rotation)");
+              "environment_rotation, target_error)");
     ParameterValues dashed;
     dashed.set("max-depth", "5");
     EXPECT_EQ(applyJobParameters(pt, dashed, s), "") << "'-' stands for '_'";

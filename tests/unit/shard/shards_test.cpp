@@ -49,7 +49,10 @@ RenderSettings settingsOf(const Case& c) {
     s.seed = 7;
     s.previewIntervalSeconds = 0;
     s.maxTypeLayers = 4;  // bounded type layers (issue #24): far fewer than the scene's types
-    if (!registeredAlgorithm(c.algorithm).parameters.empty()) s.parameters.set("bootstrap", 4000);
+    const auto& declared = registeredAlgorithm(c.algorithm).parameters;
+    if (std::any_of(declared.begin(), declared.end(),
+                    [](const ParameterSpec& p) { return p.name == "bootstrap"; }))
+        s.parameters.set("bootstrap", 4000);
     if (c.estimators) s.parameters.set("estimators", std::string(c.estimators));
     return s;
 }

@@ -1,0 +1,44 @@
+// The error of a progressive render estimated from the render itself, without a reference:
+// two interleaved halves. The samples are split by index (pt, bdpt: the even sample indices of
+// every pixel are half A, the odd ones half B: sample_passes.cpp), so the split, and the
+// estimate, depend only on the seed and the budget; each half is an independent estimate of the
+// same image, so their difference measures the noise. With n_A and n_B samples per pixel in the
+// halves, I_A = S_A / n_A and I_B = S_B / n_B, E[(I_A - I_B)^2] = s^2 (1/n_A + 1/n_B) while the
+// full image I = (S_A + S_B) / (n_A + n_B) has variance s^2 / (n_A + n_B), so
+//     Var(I) ~ (I_A - I_B)^2 n_A n_B / (n_A + n_B)^2        (unbiased per pixel and channel),
+// and the estimated relative RMSE of I is sqrt(mean Var(I)) / mean I over pixels and channels
+// (the RMSE against the true image, over the image's mean: what `partita-eval quality` measures
+// against a long reference, divided by the reference's mean).
+//
+// It keeps only the combined sums: the previous run's and half A's (two float images), from
+// the film's unscaled combined sums after each run of samples of one half
+// (Film::resolveCombined(1)). Only valid for independent samples (pt, bdpt): successive rounds
+// of a Markov chain are not.
+#pragma once
+
+#include <cstdint>
+
+#include "image.h"
+
+namespace partita {
+
+class HalfSplitError {
+  public:
+    /// The film's unscaled combined sums after a run of `samples` samples per pixel, all of
+    /// half A (`halfA`) or all of half B.
+    void addRun(const Image& sums, uint64_t samples, bool halfA);
+
+    uint64_t samplesA() const { return samplesA_; }
+    uint64_t samplesB() const { return samplesB_; }
+    /// Both halves hold at least `minimum` samples per pixel.
+    bool ready(uint64_t minimum = 1) const { return samplesA_ >= minimum && samplesB_ >= minimum; }
+    /// The estimated relative RMSE of the full image (0 when not ready or the image is black).
+    double relativeRmse() const;
+
+  private:
+    Image previous_;  // the sums after the last run
+    Image halfA_;     // the sums of half A's runs
+    uint64_t samplesA_ = 0, samplesB_ = 0;
+};
+
+}  // namespace partita

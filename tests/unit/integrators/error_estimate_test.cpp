@@ -1,0 +1,162 @@
+// The render's own error estimate (half_split_error.h) and the target error of pt and bdpt
+// (sample_pass_settings.h). The estimator: on synthetic samples of known variance its squared
+// estimate averages to the true variance of the mean; on renders of cornell (pt, bdpt) the
+// estimate's square averages to the squared relative RMSE measured against a long render of the
+// same algorithm with another seed (that reference's own squared error, estimated the same way,
+// subtracted). Tolerances from the
+// spread over independent seeds. The target error: a render stops once its estimate reaches
+// the target, never before kMinHalfSamples samples a half, and runs its whole budget when the
+// target is out of reach.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "gltf/gltf_loader.h"
+#include "half_split_error.h"
+#include "image_metrics.h"
+#include "integrators/sample_pass_settings.h"
+#include "render_helpers.h"
+
+namespace partita {
+namespace {
+
+using test::meanAndError;
+using test::renderWith;
+
+TEST(HalfSplitError, SquaredEstimateAveragesToTheVarianceOfTheMean) {
+    // Pixels of mean mu_i and per-sample deviation sigma_i (Gaussian), runs of uneven sizes:
+    // E[estimate^2] = mean_i(sigma_i^2 / n) / mean(mu)^2 up to the O(1/n) bias of the ratio.
+    constexpr int kWidth = 16, kHeight = 8, kTrials = 200;
+    const std::vector<uint64_t> passSizes = {1, 3, 5, 4, 6, 5, 7, 9};
+    uint64_t n = 0;
+    for (uint64_t p : passSizes) n += p;
+    std::vector<double> ratios;
+    for (int trial = 0; trial < kTrials; ++trial) {
+        std::mt19937_64 rng(1000 + trial);
+        std::normal_distribution<double> normal;
+        HalfSplitError estimate;
+        Image sums(kWidth, kHeight);
+        double meanSum = 0, varianceSum = 0;
+        for (size_t run = 0; run < passSizes.size(); ++run) {
+            const uint64_t pass = passSizes[run];
+            for (size_t i = 0; i < sums.rgb.size(); ++i) {
+                double mu = 1.0 + double(i % 7), sigma = 0.5 + double(i % 5);
+                for (uint64_t k = 0; k < pass; ++k) sums.rgb[i] += float(mu + sigma * normal(rng));
+            }
+            estimate.addRun(sums, pass, run % 2 == 0);
+        }
+        for (size_t i = 0; i < sums.rgb.size(); ++i) {
+            double mu = 1.0 + double(i % 7), sigma = 0.5 + double(i % 5);
+            meanSum += mu;
+            varianceSum += sigma * sigma / double(n);
+        }
+        double count = double(sums.rgb.size());
+        double truth = varianceSum / count / ((meanSum / count) * (meanSum / count));
+        ratios.push_back(estimate.relativeRmse() * estimate.relativeRmse() / truth);
+    }
+    auto m = meanAndError(ratios);
+    EXPECT_NEAR(m.mean, 1.0, test::statisticalTolerance(m, 1.0)) << m.standardError;
+}
+
+TEST(HalfSplitError, NotReadyUntilBothHalvesHaveSamples) {
+    HalfSplitError estimate;
+    Image sums(2, 2);
+    sums.rgb.assign(sums.rgb.size(), 1.0f);
+    estimate.addRun(sums, 1, true);
+    EXPECT_FALSE(estimate.ready());
+    EXPECT_EQ(estimate.relativeRmse(), 0.0);
+    sums.rgb.assign(sums.rgb.size(), 3.0f);
+    estimate.addRun(sums, 1, false);
+    EXPECT_TRUE(estimate.ready());
+    // Half A: 1 a pixel, half B: 2 a pixel, full 1.5: Var = (1 - 2)^2 / 4, RMSE 0.5 over 1.5.
+    EXPECT_NEAR(estimate.relativeRmse(), 0.5 / 1.5, 1e-6);
+}
+
+RenderScene cornell() {
+    return RenderScene(loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell/cornell.gltf"));
+}
+
+RenderSettings tinySettings(int spp, uint64_t seed) {
+    RenderSettings s;
+    s.width = 24;
+    s.height = 18;
+    s.budget = spp;
+    s.seed = seed;
+    s.maxDepth = 8;
+    s.maxTypeLayers = 0;
+    s.previewIntervalSeconds = 0;
+    return s;
+}
+
+/// Mean squared error of `image` against `reference`, over the square of `image`'s own mean:
+/// the estimate's normalisation, so that the two differ only in their numerators.
+double relativeSquaredError(const Image& image, const Image& reference) {
+    double squared = 0, mean = 0;
+    for (size_t i = 0; i < image.rgb.size(); ++i) {
+        double d = double(image.rgb[i]) - double(reference.rgb[i]);
+        squared += d * d;
+        mean += image.rgb[i];
+    }
+    double count = double(image.rgb.size());
+    return squared / count / ((mean / count) * (mean / count));
+}
+
+/// The mean of an image over its pixels and channels.
+double imageMean(const Image& image) {
+    double sum = 0;
+    for (float v : image.rgb) sum += v;
+    return sum / double(image.rgb.size());
+}
+
+class ErrorEstimate : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ErrorEstimate, AgreesWithTheErrorAgainstALongReference) {
+    RenderScene scene = cornell();
+    // A long render of the same algorithm (another seed): the estimate is about the noise, so
+    // the reference must have much less of it (bdpt has ~15x less than pt here at equal spp).
+    const bool pt = std::string(GetParam()) == "pt";
+    RenderResult reference = renderWith(scene, GetParam(), tinySettings(pt ? 16384 : 2048, 99));
+    const double referenceError = reference.stats.values.at("error_estimate");
+    std::vector<double> differences;
+    for (uint64_t seed = 1; seed <= 12; ++seed) {
+        RenderResult r = renderWith(scene, GetParam(), tinySettings(64, seed));
+        ASSERT_TRUE(r.stats.values.count("error_estimate")) << "seed " << seed;
+        double estimate = r.stats.values.at("error_estimate");
+        // The reference's own squared error, estimated the same way, rescaled to this image's
+        // mean.
+        double referenceShare = imageMean(reference.image.combined) / imageMean(r.image.combined);
+        double measured = relativeSquaredError(r.image.combined, reference.image.combined) -
+                          referenceError * referenceError * referenceShare * referenceShare;
+        differences.push_back(estimate * estimate - measured);
+    }
+    auto m = meanAndError(differences);
+    EXPECT_NEAR(m.mean, 0.0, test::statisticalTolerance(m, 0.0))
+        << "estimate^2 - measured^2, mean over seeds; reference's own error " << referenceError;
+}
+
+INSTANTIATE_TEST_SUITE_P(SamplePasses, ErrorEstimate, ::testing::Values("pt", "bdpt"));
+
+TEST(TargetError, StopsOnceTheEstimateReachesIt) {
+    RenderScene scene = cornell();
+    RenderSettings st = tinySettings(1 << 16, 3);
+    st.parameters.set("target_error", 0.2);
+    RenderResult r = renderWith(scene, "pt", st);
+    EXPECT_EQ(r.stats.values.at("reached_target_error"), 1.0);
+    EXPECT_LE(r.stats.values.at("error_estimate"), 0.2);
+    EXPECT_LT(r.stats.values.at("spp"), double(1 << 16)) << "stopped before the budget";
+    EXPECT_GE(r.stats.values.at("spp"), 2.0 * SamplePassSettings::kMinHalfSamples);
+}
+
+TEST(TargetError, RunsTheWholeBudgetWhenOutOfReach) {
+    RenderScene scene = cornell();
+    RenderSettings st = tinySettings(32, 3);
+    st.parameters.set("target_error", 1e-6);
+    RenderResult r = renderWith(scene, "bdpt", st);
+    EXPECT_EQ(r.stats.values.at("reached_target_error"), 0.0);
+    EXPECT_EQ(r.stats.values.at("spp"), 32.0);
+    EXPECT_GT(r.stats.values.at("error_estimate"), 1e-6);
+}
+
+}  // namespace
+}  // namespace partita
