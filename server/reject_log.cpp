@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "status_code_name.h"
 #include "text.h"
 
 namespace partita::server {
@@ -10,23 +11,6 @@ bool isRejection(grpc::StatusCode code) {
     return code == grpc::StatusCode::INVALID_ARGUMENT ||
            code == grpc::StatusCode::UNAUTHENTICATED ||
            code == grpc::StatusCode::RESOURCE_EXHAUSTED;
-}
-
-std::string codeName(grpc::StatusCode code) {
-    switch (code) {
-        case grpc::StatusCode::INVALID_ARGUMENT:
-            return "INVALID_ARGUMENT";
-        case grpc::StatusCode::UNAUTHENTICATED:
-            return "UNAUTHENTICATED";
-        case grpc::StatusCode::RESOURCE_EXHAUSTED:
-            return "RESOURCE_EXHAUSTED";
-        case grpc::StatusCode::NOT_FOUND:
-            return "NOT_FOUND";
-        case grpc::StatusCode::FAILED_PRECONDITION:
-            return "FAILED_PRECONDITION";
-        default:
-            return "code " + std::to_string(int(code));
-    }
 }
 
 namespace {
@@ -69,7 +53,7 @@ void RejectLog::note(std::string_view method, const std::string& peer, const grp
     }
     if (dropped > 0) logSuppressed(dropped);
     spdlog::warn("rejected {} from {}: {}: {}", method, quoteInput(peer, 100),
-                 codeName(status.error_code()), quoteInput(status.error_message(), 200));
+                 statusCodeName(status.error_code()), quoteInput(status.error_message(), 200));
 }
 
 }  // namespace partita::server

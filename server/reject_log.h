@@ -40,7 +40,4 @@ class RejectLog {
 /// True for the codes RejectLog logs.
 bool isRejection(grpc::StatusCode code);
 
-/// The code's name: "INVALID_ARGUMENT", ...
-std::string codeName(grpc::StatusCode code);
-
 }  // namespace partita::server

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "status_code_name.h"
+
 namespace partita::cli {
 
 /// A failure the CLI reports and exits on. `code` is the gRPC status code name
@@ -24,8 +26,8 @@ class CliError : public std::runtime_error {
     int exitCode_;
 };
 
-/// "INVALID_ARGUMENT", "NOT_FOUND", ...
-std::string statusCodeName(grpc::StatusCode code);
+/// "INVALID_ARGUMENT", "NOT_FOUND", ... (proto/status_code_name.h).
+using partita::statusCodeName;
 
 /// Throws a CliError for a failed call: `what` says what was attempted ("submit job"), the
 /// server's message follows, the code goes in parentheses. Unreachable servers get a message

@@ -2,47 +2,13 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include "status_code_name.h"
 #include "text.h"
 #include "wire.h"
 
 namespace partita::server::dashboard {
 
 namespace {
-
-const char* codeName(grpc::StatusCode code) {
-    switch (code) {
-        case grpc::StatusCode::OK:
-            return "OK";
-        case grpc::StatusCode::CANCELLED:
-            return "CANCELLED";
-        case grpc::StatusCode::INVALID_ARGUMENT:
-            return "INVALID_ARGUMENT";
-        case grpc::StatusCode::DEADLINE_EXCEEDED:
-            return "DEADLINE_EXCEEDED";
-        case grpc::StatusCode::NOT_FOUND:
-            return "NOT_FOUND";
-        case grpc::StatusCode::ALREADY_EXISTS:
-            return "ALREADY_EXISTS";
-        case grpc::StatusCode::PERMISSION_DENIED:
-            return "PERMISSION_DENIED";
-        case grpc::StatusCode::RESOURCE_EXHAUSTED:
-            return "RESOURCE_EXHAUSTED";
-        case grpc::StatusCode::FAILED_PRECONDITION:
-            return "FAILED_PRECONDITION";
-        case grpc::StatusCode::ABORTED:
-            return "ABORTED";
-        case grpc::StatusCode::OUT_OF_RANGE:
-            return "OUT_OF_RANGE";
-        case grpc::StatusCode::UNIMPLEMENTED:
-            return "UNIMPLEMENTED";
-        case grpc::StatusCode::UNAVAILABLE:
-            return "UNAVAILABLE";
-        case grpc::StatusCode::UNAUTHENTICATED:
-            return "UNAUTHENTICATED";
-        default:
-            return "INTERNAL";
-    }
-}
 
 /// A JSON string literal of UTF-8 text.
 std::string jsonString(const std::string& text) {
@@ -120,7 +86,7 @@ int httpStatus(grpc::StatusCode code) {
 }
 
 std::string errorJson(const grpc::Status& status) {
-    return "{\"code\":\"" + std::string(codeName(status.error_code())) +
+    return "{\"code\":\"" + statusCodeName(status.error_code()) +
            "\",\"error\":" + jsonString(toValidUtf8(status.error_message())) + "}";
 }
 

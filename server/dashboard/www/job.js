@@ -45,6 +45,9 @@ function showProgress(progress) {
   if (progress.eta_seconds > 0) parts.push("ETA " + formatDuration(progress.eta_seconds));
   document.getElementById("progress-text").textContent = parts.filter(Boolean).join(" · ");
   if ((progress.partitions || []).length) showPartitions(progress.partitions);
+  // The phase's own statistics: acceptance per mutation type, mutations, the error estimate.
+  const live = Object.entries(progress.values || {}).sort().map(([k, v]) => [k, formatNumber(v)]);
+  document.querySelector("#live tbody").replaceChildren(...keyValueRows(live));
   recordError(progress);
 }
 
