@@ -99,9 +99,23 @@ class ClientTest(unittest.TestCase):
         self.assertIn("LSSDE", layers)  # light tracing reaches what pt cannot
         self.assertGreater(float(layers["LSSDE"].sum()), 0.0)
 
+    def watch_from_the_queue(self, job_after):
+        """Events of the job `job_after()` submits, watched from QUEUED on: two long jobs fill
+        the daemon's two slots first, so the watch joins before the job starts (a quick job
+        could otherwise pass its pre-pass before a watch on a busy machine joins)."""
+        blockers = [self.client.submit("cornell", algorithm="pt", seconds=120, width=16,
+                                       height=12) for _ in range(2)]
+        job = job_after()
+        events = self.client.watch(job)
+        first = next(events)
+        self.assertEqual(first.job.state, "queued")
+        for blocker in blockers:
+            self.client.cancel(blocker)
+        return job, [first] + list(events)
+
     def test_mlt_progress_carries_its_phases_and_acceptance(self):
-        job = self.client.submit("cornell", algorithm="mlt", mpp=4, width=16, height=12, seed=2)
-        events = list(self.client.watch(job))
+        job, events = self.watch_from_the_queue(lambda: self.client.submit(
+            "cornell", algorithm="mlt", mpp=4, width=16, height=12, seed=2))
         states = [e.job.state for e in events if isinstance(e, StateEvent)]
         self.assertEqual(states[-1], "done", states)
         self.assertIn("prepass", states)  # the bootstrap
@@ -135,10 +149,28 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(ctx.exception.code, "INVALID_ARGUMENT")
         self.assertIn("mutations per pixel or seconds", str(ctx.exception))
 
-    def test_partitioned_progress_carries_its_partitions(self):
-        job = self.client.submit("cornell-glass", algorithm="partitioned", mpp=16, width=16,
-                                 height=12, seed=2, k=3, prepass="pt", bootstrap_samples=4000)
+    def test_target_error_stops_a_pt_job_at_its_estimate(self):
+        # pt estimates its own error (two interleaved halves) and stops once it reaches the
+        # target: long before the 65536 samples a pixel it may take.
+        job = self.client.submit("cornell", algorithm="pt", spp=65536, width=16, height=12,
+                                 seed=2, target_error=0.25)
         events = list(self.client.watch(job))
+        states = [e.job.state for e in events if isinstance(e, StateEvent)]
+        self.assertEqual(states[-1], "done", states)
+        estimates = [e.progress.values["error_estimate"] for e in events
+                     if isinstance(e, ProgressEvent) and "error_estimate" in e.progress.values]
+        self.assertTrue(estimates, "progress carries the error estimate")
+        stats = self.client.metadata(job)["stats"]
+        self.assertEqual(stats["reached_target_error"], 1.0)
+        self.assertLessEqual(stats["error_estimate"], 0.25)
+        self.assertLess(stats["spp"], 65536)
+        with self.assertRaises(ValueError):  # the MCMC methods do not estimate it yet
+            self.client.submit("cornell", algorithm="mlt", mpp=4, target_error=0.25)
+
+    def test_partitioned_progress_carries_its_partitions(self):
+        job, events = self.watch_from_the_queue(lambda: self.client.submit(
+            "cornell-glass", algorithm="partitioned", mpp=16, width=16, height=12, seed=2, k=3,
+            prepass="pt", bootstrap_samples=4000))
         states = [e.job.state for e in events if isinstance(e, StateEvent)]
         self.assertEqual(states[-1], "done", states)
         self.assertIn("prepass", states)
