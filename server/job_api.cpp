@@ -1,6 +1,7 @@
 #include "job_api.h"
 
 #include "algorithm.h"
+#include "job_memory.h"
 #include "job_runner.h"
 #include "parameter_wire.h"
 #include "text.h"
@@ -38,6 +39,7 @@ void fillLimits(const ServiceLimits& limits, pb::Limits& l) {
     l.set_max_job_memory_bytes(limits.maxJobMemoryBytes);
     l.set_max_store_bytes(limits.maxStoreBytes);
     l.set_max_bootstrap_samples(limits.maxBootstrapSamples);
+    l.set_max_raw_preview_bytes(limits.maxRawPreviewBytes);
 }
 
 }  // namespace
@@ -96,6 +98,20 @@ grpc::Status JobApi::resultFile(const std::string& id, pb::ResultKind kind,
                                                            ": results exist only once it is DONE"};
     file = jobs_.resultDir(job->id()) / name;
     return grpc::Status::OK;
+}
+
+grpc::Status JobApi::checkRawPreviews(const Job& job) const {
+    ValidatedSpec v;
+    if (!settingsFromSpec(job.spec(), limits_, v).ok()) return grpc::Status::OK;  // it fails
+    uint64_t bytes = rawPreviewBytes(v.algorithm, v.settings);
+    if (bytes <= uint64_t(std::max<int64_t>(0, limits_.maxRawPreviewBytes)))
+        return grpc::Status::OK;
+    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+            "raw previews of job " + job.id() + " would take " + humanBytes(double(bytes)) +
+                " a frame (every layer as float32 RGB), over this server's limit of " +
+                humanBytes(double(limits_.maxRawPreviewBytes)) +
+                " (--max-raw-preview-mb): watch it without raw previews, or submit it with "
+                "fewer layers"};
 }
 
 void JobApi::listScenes(pb::ListScenesResponse& out) const {

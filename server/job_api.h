@@ -35,6 +35,10 @@ class JobApi {
     /// INVALID_ARGUMENT for an unknown kind, FAILED_PRECONDITION before DONE).
     grpc::Status resultFile(const std::string& id, pb::ResultKind kind,
                             std::filesystem::path& file) const;
+    /// OK, or RESOURCE_EXHAUSTED when the job's raw preview frames (every layer as float32 RGB)
+    /// would be larger than the server's limit (--max-raw-preview-mb): its memory estimate
+    /// counts raw frames only up to it.
+    grpc::Status checkRawPreviews(const Job& job) const;
     void listScenes(pb::ListScenesResponse& out) const;
     /// Version, threads, limits, and every algorithm with its declared parameters.
     void serverInfo(pb::ServerInfo& out) const;

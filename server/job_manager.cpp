@@ -112,7 +112,8 @@ std::string JobManager::newId() const {
 MemoryEstimate JobManager::estimate(const pb::JobSpec&, const ValidatedSpec& v,
                                     uint64_t sceneBytes) const {
     return estimateJobMemory(v.algorithm, v.settings, sceneBytes, pool_.threadCount(),
-                             v.environment);
+                             v.environment,
+                             uint64_t(std::max<int64_t>(0, limits_.maxRawPreviewBytes)));
 }
 
 uint64_t JobManager::estimateStored(const Job& job) const {

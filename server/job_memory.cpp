@@ -26,9 +26,11 @@ namespace {
 // kTypeCoverage of it.
 constexpr double kSum = Film::kBytesPerSum;
 constexpr double kTypeCoverage = 0.6;
-constexpr double kImageLayer = 12;        // a resolved layer: dense float RGB, bytes per pixel
-constexpr double kPreviewExtra = 12 + 1;  // the raw preview watchers share and its PNG
-constexpr double kPartition = 12;         // bytes per pixel and partition image
+constexpr double kImageLayer = 12;  // a resolved layer: dense float RGB, bytes per pixel
+constexpr double kPng = 3;  // a layer's PNG of a preview frame at most (8-bit RGB, uncompressed)
+constexpr double kPreviewFrames = 2;  // the job's latest and one a slow watcher still holds
+constexpr double kRawCopies = 3;      // a raw frame's message, its wire form, one still sent
+constexpr double kPartition = 12;     // bytes per pixel and partition image
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
@@ -123,6 +125,13 @@ MltExtra partitionedExtraBytes(const RenderSettings& s) {
     return e;
 }
 
+/// The layers of the job's frames: the combined one and the type layers with "other"; for the
+/// partitioned methods one a partition (K + 1) and the combined one.
+int frameLayers(const std::string& algorithm, const RenderSettings& s) {
+    int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
+    return 1 + (partitions > 0 ? partitions : typeBuffers(algorithm, s));
+}
+
 }  // namespace
 
 std::string humanBytes(double b) {
@@ -137,28 +146,34 @@ std::string humanBytes(double b) {
     return buf;
 }
 
+uint64_t rawPreviewBytes(const std::string& algorithm, const RenderSettings& s) {
+    return uint64_t(frameLayers(algorithm, s)) * uint64_t(s.width) * uint64_t(s.height) * 12;
+}
+
 MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSettings& s,
                                  uint64_t sceneBytes,
                                  int /*renderThreads: no algorithm keeps a film per thread*/,
-                                 const ImageHeader& environment) {
+                                 const ImageHeader& environment, uint64_t rawPreviewLimit) {
     const int tile = 16;
     double padded =
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
     int films = filmCount(algorithm, s);
     int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
-    // The resolved images: the combined one and the type layers with "other"; for the
-    // partitioned methods one a partition (K + 1) and the combined one.
     int typeLayers = typeBuffers(algorithm, s);
-    int layers = 1 + (partitions > 0 ? partitions : typeLayers);
+    int layers = frameLayers(algorithm, s);
 
-    // The film, and what the job holds beside it: the latest preview frame for watchers (when
-    // it sends previews), its raw form and PNG. The final image is made as the film is
-    // consumed (Film::takeResolved), so the two are counted as the larger, not their sum.
+    // The film, and what the job holds beside it: preview frames for watchers (when it sends
+    // previews) with their PNGs and raw forms (job_memory.h). The final image is made as the
+    // film is consumed (Film::takeResolved), so the two are counted as the larger, not their
+    // sum.
     double film = padded * kSum * (films + kTypeCoverage * typeLayers);
     double finalImage = layers * pixels * kImageLayer;
+    double raw = std::min(double(rawPreviewBytes(algorithm, s)), double(rawPreviewLimit));
     double preview =
-        s.previewIntervalSeconds > 0 ? layers * pixels * kImageLayer + pixels * kPreviewExtra : 0;
+        s.previewIntervalSeconds > 0
+            ? kPreviewFrames * layers * pixels * (kImageLayer + kPng) + kRawCopies * raw
+            : 0;
     double images = preview + std::max(0.0, finalImage - film);
     double parts = partitions * pixels * kPartition;
     double scene = kSceneFactor * double(sceneBytes);

@@ -114,6 +114,7 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* PartitaService::WatchJob(Context* c,
     if (status.ok()) status = parseRequest(*in, request);
     std::shared_ptr<Job> job;
     if (status.ok() && !(job = api_.find(request.job_id()))) status = unknownJob(request.job_id());
+    if (status.ok() && request.raw_previews()) status = api_.checkRawPreviews(*job);
     if (status.ok() && openWatches_.fetch_add(1) >= limits_.maxWatchStreams) {
         openWatches_.fetch_sub(1);
         status = {grpc::StatusCode::RESOURCE_EXHAUSTED,

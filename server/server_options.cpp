@@ -47,6 +47,7 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     CLI::App app{"partitad: the Partita render daemon (gRPC service partita.v1.Partita)"};
     app.set_version_flag("--version", PARTITA_VERSION);
     double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
+    double rawPreviewMb = double(o.limits.maxRawPreviewBytes) / (1 << 20);
     double jobMemoryMb = -1, totalMemoryMb = -1,
            storeMb = -1;  // -1: the defaults finalizeServerOptions computes
     app.add_option("--listen", o.listen, "address to listen on, host:port (port 0: any free port)")
@@ -89,6 +90,10 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     app.add_option("--max-watch-streams", o.limits.maxWatchStreams,
                    "most open WatchJob streams of all jobs together")
         ->capture_default_str();
+    app.add_option("--max-raw-preview-mb", rawPreviewMb,
+                   "largest raw preview frame (every layer as float32 RGB) a watcher may ask "
+                   "for, MiB; each job's memory estimate counts its raw frames up to this")
+        ->capture_default_str();
     app.add_option("--max-depth", o.limits.maxDepth, "largest max-depth a job may ask for")
         ->capture_default_str();
     app.add_option("--max-job-memory", jobMemoryMb,
@@ -130,6 +135,11 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.maxUploadBytes = int64_t(uploadMb * (1 << 20));
+    if (!(rawPreviewMb >= 0) || rawPreviewMb > 65536) {
+        std::fprintf(stderr, "partitad: --max-raw-preview-mb must be in [0, 65536]\n");
+        return 2;
+    }
+    o.limits.maxRawPreviewBytes = int64_t(rawPreviewMb * (1 << 20));
     for (double mb : {jobMemoryMb, totalMemoryMb, storeMb}) {
         if (!(mb >= 0 || mb == -1)) {
             std::fprintf(stderr,

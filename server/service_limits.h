@@ -22,6 +22,9 @@ struct ServiceLimits {
     int64_t maxJobMemoryBytes = 0;  // largest memory estimate of one job (job_memory.h); 0: none
     int64_t maxTotalJobMemoryBytes = 0;  // what running jobs may use together; 0: no limit
     int64_t maxStoreBytes = 0;           // store size beyond which uploads are refused; 0: none
+    /// Largest raw preview frame (every layer as float32 RGB) a watcher may ask for: the
+    /// estimate counts a job's raw frames up to this (job_memory.h).
+    int64_t maxRawPreviewBytes = int64_t(256) << 20;
 
     /// The same limits in the core's terms, for partita::validateSettings.
     RenderLimits renderLimits() const;

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import socket
 import subprocess
 import tempfile
 import time
@@ -32,6 +33,28 @@ def browser_missing() -> str:
     return ""
 
 
+def start_chromedriver():
+    """chromedriver on a free loopback port, addressed by IP: Selenium's own Service polls
+    "localhost", which a machine without /etc/hosts (a fresh minimal root) cannot resolve.
+    Returns the process and the address to drive it at."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    process = subprocess.Popen([CHROMEDRIVER, f"--port={port}", "--allowed-ips=127.0.0.1"],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        try:
+            socket.create_connection(("127.0.0.1", port), timeout=1).close()
+            return process, f"http://127.0.0.1:{port}"
+        except OSError:
+            if process.poll() is not None:
+                break
+            time.sleep(0.1)
+    process.kill()
+    raise RuntimeError(f"chromedriver did not listen on 127.0.0.1:{port} (exit {process.poll()})")
+
+
 def wait_for(condition, timeout, what):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -49,7 +72,6 @@ class DashboardBrowserTest(unittest.TestCase):
         if reason:
             raise unittest.SkipTest(reason)
         from selenium import webdriver
-        from selenium.webdriver.chrome.service import Service
 
         cls.server = DashboardDaemon()
         options = webdriver.ChromeOptions()
@@ -60,8 +82,14 @@ class DashboardBrowserTest(unittest.TestCase):
         cls.profile = tempfile.mkdtemp(prefix="partita-chromium-")
         options.add_argument("--user-data-dir=" + cls.profile)
         try:
-            cls.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+            cls.chromedriver, address = start_chromedriver()
         except Exception:
+            cls.server.stop()
+            raise
+        try:
+            cls.driver = webdriver.Remote(command_executor=address, options=options)
+        except Exception:
+            cls.chromedriver.kill()
             cls.server.stop()
             raise
         cls.driver.set_page_load_timeout(30)
@@ -69,6 +97,8 @@ class DashboardBrowserTest(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.driver.quit()
+        cls.chromedriver.terminate()
+        cls.chromedriver.wait(timeout=10)
         cls.server.stop()
         shutil.rmtree(cls.profile, ignore_errors=True)
 

@@ -54,6 +54,7 @@ class Daemon {
 
     bool running() const { return port_ > 0 && pid_ > 0; }
     int port() const { return port_; }
+    pid_t pid() const { return pid_; }
     std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
     std::shared_ptr<grpc::Channel> channel() const;
     std::unique_ptr<pb::Partita::Stub> stub() const { return pb::Partita::NewStub(channel()); }

@@ -2,6 +2,8 @@
 // the memory of the running jobs together, watchers of any job, the store's size.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <sstream>
 #include <thread>
 
 #include "service_client.h"
@@ -124,12 +126,102 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     EXPECT_EQ(waitForEnd(*stub, mltSmall.id, 60s).state(), pb::JOB_STATE_DONE);
 }
 
+/// A /proc/<pid>/status field in KiB ("VmRSS", "VmHWM").
+uint64_t procStatusKiB(pid_t pid, const std::string& field) {
+    std::string status = readFile("/proc/" + std::to_string(pid) + "/status");
+    size_t at = status.find(field + ":");
+    if (at == std::string::npos) return 0;
+    return std::stoull(status.substr(at + field.size() + 1));
+}
+
+/// The memory estimate the daemon logged for job `id` ("memory estimate 455.2 MiB"), in bytes.
+double loggedEstimate(const std::string& log, const std::string& id) {
+    size_t line = log.find("[job " + id + "] queued");
+    size_t at = line == std::string::npos ? line : log.find("memory estimate ", line);
+    if (at == std::string::npos) return 0;
+    std::istringstream in(log.substr(at + 16));
+    double value = 0;
+    std::string unit;
+    in >> value >> unit;
+    double scale = unit == "KiB"   ? 1024.0
+                   : unit == "MiB" ? 1048576.0
+                   : unit == "GiB" ? 1073741824.0
+                                   : 1.0;
+    return value * scale;
+}
+
+TEST(ServiceResources, RawPreviewsOverTheirLimitAreRefused) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-raw-preview-mb", "1"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    EXPECT_EQ(serverInfo(*stub).limits().max_raw_preview_bytes(), int64_t(1) << 20);
+    // 64x48 with 32 type layers, "other" and the combined image: 34 x 3072 x 12 B = 1.2 MiB.
+    pb::JobSpec spec = sceneSpec("cornell", 64, 48, 64);
+    spec.set_preview_interval_seconds(0.1);
+    Submitted job = submit(*stub, spec);
+    ASSERT_TRUE(job.status.ok()) << job.status.error_message();
+    WatchLog raw = watch(*stub, job.id, true, true);
+    EXPECT_EQ(raw.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(raw.status.error_message().find("--max-raw-preview-mb"), std::string::npos)
+        << raw.status.error_message();
+    WatchLog png = watch(*stub, job.id, true, false);
+    EXPECT_TRUE(png.status.ok()) << png.status.error_message();
+    EXPECT_EQ(png.last()->state(), pb::JOB_STATE_DONE);
+    // Fewer layers: under the limit, raw previews come.
+    spec.set_max_type_layers(4);
+    Submitted small = submit(*stub, spec);
+    ASSERT_TRUE(small.status.ok());
+    WatchLog fits = watch(*stub, small.id, true, true);
+    EXPECT_TRUE(fits.status.ok()) << fits.status.error_message();
+    ASSERT_FALSE(fits.frames().empty());
+    EXPECT_FALSE(fits.frames().back()->layers(0).raw_rgb_f32().empty());
+}
+
+TEST(ServiceResources, ARawPreviewWatcherKeepsTheJobWithinItsEstimate) {
+    // Issue #25 4: cornell-glass, pt, 192x192, 4 spp, 256 layers, previews every 0.05 s and a
+    // raw watcher took the daemon +711 MiB over an estimate of 455. The estimate now counts
+    // the frames a watcher holds and the raw frames' copies; the daemon's peak (VmHWM) less its
+    // resident size before the job must stay under it.
+    TempDir store;
+    Daemon daemon(store.path());
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::JobSpec spec = sceneSpec("cornell-glass", 192, 192, 4);
+    spec.set_max_type_layers(256);
+    spec.set_preview_interval_seconds(0.05);
+    const uint64_t before = procStatusKiB(daemon.pid(), "VmRSS") * 1024;
+    Submitted job = submit(*stub, spec);
+    ASSERT_TRUE(job.status.ok()) << job.status.error_message();
+    // Read every event and keep none (a frame is ~110 MiB of raw pixels).
+    auto ctx = context(120s);
+    auto reader = stub->WatchJob(ctx.get(), watchRequest(job.id, true, true));
+    pb::JobEvent event;
+    int frames = 0;
+    pb::JobState last = pb::JOB_STATE_UNSPECIFIED;
+    while (reader->Read(&event)) {
+        if (event.has_preview()) ++frames;
+        if (event.has_state()) last = event.state().state();
+    }
+    ASSERT_TRUE(reader->Finish().ok());
+    EXPECT_EQ(last, pb::JOB_STATE_DONE);
+    EXPECT_GT(frames, 1);
+    const uint64_t peak = procStatusKiB(daemon.pid(), "VmHWM") * 1024;
+    const double estimate = loggedEstimate(daemon.log(), job.id);
+    ASSERT_GT(estimate, 0) << daemon.log();
+    std::printf("raw watcher: daemon peak +%.1f MiB over %d frames, estimate %.1f MiB\n",
+                double(peak - before) / 1048576.0, frames, estimate / 1048576.0);
+    EXPECT_LE(double(peak - before), estimate)
+        << "peak " << (peak - before) / 1048576.0 << " MiB over " << frames << " frames";
+}
+
 TEST(ServiceResources, RunningJobsCountAgainstTheTotal) {
     TempDir store;
-    // Each job below is estimated at ~65 MiB (1000 type layers on 48x36 pixels): one fits in
-    // the total of 100 MiB, two do not, so the second waits although two may run at once.
+    // Each job below is estimated at ~154 MiB (1000 type layers on 48x36 pixels, with their
+    // preview frames and raw copies): one fits in the total of 250 MiB, two do not, so the
+    // second waits although two may run at once.
     Daemon daemon(store.path(),
-                  {"--max-jobs", "2", "--max-job-memory", "120", "--max-total-memory", "100"});
+                  {"--max-jobs", "2", "--max-job-memory", "200", "--max-total-memory", "250"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
     auto spec = [] {
