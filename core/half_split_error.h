@@ -22,6 +22,34 @@
 
 namespace partita {
 
+/// An image's estimated error, summed over its pixel-channels, in parts that add up: the
+/// variances of independent parts add, and so do their values. An MCMC image is such a sum
+/// (mlt: its chains and its per-pixel direct light; partitioned: its partitions), each part
+/// estimated by its own means (chain halves, a pilot's variance, a normalising constant's).
+struct ErrorSums {
+    double variance = 0;  // sum of the estimated Var(I) of every pixel-channel
+    double value = 0;     // sum of I
+    double squares = 0;   // sum of I^2: of this part alone (not kept through add)
+    double count = 0;     // pixel-channels
+
+    /// A part's image is scaled by an estimated constant c (a normalising constant b, E c = 1
+    /// relative to the truth) of relative variance r, independent of the rest of its error:
+    /// Var(c I) ~ Var(I) + r I^2, so r times the squares is added.
+    void addScaleVariance(double relativeVariance);
+    /// Adds an independent part of the same image size.
+    void add(const ErrorSums& part);
+    /// sqrt(variance / count) / (value / count): the relative RMSE (0 for a black image).
+    double relativeRmse() const;
+};
+
+/// The error sums of the mean of two independent estimates a and b of one image, weighted
+/// n_a : n_b (their samples, or mutations), as in HalfSplitError: Var ~ (a - b)^2 n_a n_b / n^2.
+/// Zero sums when either weight is 0.
+ErrorSums halvesError(const Image& a, const Image& b, double weightA, double weightB);
+/// The error sums of `image` whose pixel-channels' variances sum to `variance` (measured apart:
+/// a pilot's per-sample variance over the samples per pixel).
+ErrorSums imageErrorSums(const Image& image, double variance);
+
 class HalfSplitError {
   public:
     /// The film's unscaled combined sums after a run of `samples` samples per pixel, all of
@@ -34,6 +62,8 @@ class HalfSplitError {
     bool ready(uint64_t minimum = 1) const { return samplesA_ >= minimum && samplesB_ >= minimum; }
     /// The estimated relative RMSE of the full image (0 when not ready or the image is black).
     double relativeRmse() const;
+    /// The full image's error sums (zero sums when not ready).
+    ErrorSums errorSums() const;
 
   private:
     Image previous_;  // the sums after the last run

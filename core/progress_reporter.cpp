@@ -22,9 +22,7 @@ ProgressReporter::ProgressReporter(RenderObserver& observer, std::string phase, 
     observer_.onProgress(snapshotLocked());
 }
 
-double ProgressReporter::elapsedSeconds() const {
-    return secondsSince(start_);
-}
+double ProgressReporter::elapsedSeconds() const { return secondsSince(start_); }
 
 double ProgressReporter::done() const {
     std::lock_guard lock(mutex_);
@@ -60,6 +58,11 @@ void ProgressReporter::advance(double units) {
 void ProgressReporter::setValues(std::map<std::string, double> values) {
     std::lock_guard lock(mutex_);
     values_ = std::move(values);
+}
+
+void ProgressReporter::mergeValues(const std::map<std::string, double>& values) {
+    std::lock_guard lock(mutex_);
+    for (const auto& [name, value] : values) values_[name] = value;
 }
 
 void ProgressReporter::setPartitions(std::vector<PartitionProgress> partitions) {

@@ -26,6 +26,8 @@ class ProgressReporter {
     /// Thread-safe. Replaces the named statistics of the phase (RenderProgress::values); they go
     /// out with the next report.
     void setValues(std::map<std::string, double> values);
+    /// Thread-safe. Sets some of the named statistics, keeping the others.
+    void mergeValues(const std::map<std::string, double>& values);
     /// Thread-safe. Replaces the per-partition statistics of the phase
     /// (RenderProgress::partitions); they go out with the next report.
     void setPartitions(std::vector<PartitionProgress> partitions);

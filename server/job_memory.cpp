@@ -43,14 +43,16 @@ int partitionsOf(const RenderSettings& s) {
     return partitionedParameters().resolve(s.parameters).k;
 }
 
-/// Films an algorithm holds at once: pt, bdpt and mlt one (bdpt's light tracing splats into
-/// its camera film), partitioned and guided one per partition group (K and the complement),
-/// which keep no type layers. mlt with the direct light per pixel (its default) three: the
-/// chains' (all of them, with the type layers), the odd half's combined image, the direct
-/// light's film (its types are not the chains', so the type buffers are counted once).
+/// Films an algorithm holds at once: pt and bdpt one (bdpt's light tracing splats into its
+/// camera film), partitioned and guided two per partition group (K and the complement), which
+/// keep no type layers: its chains' and its odd chains' (the error estimate,
+/// mcmc/chain_runner.h's PerGroupWithHalves). mlt two: the chains' (with the type layers) and
+/// the odd half's combined image; with the direct light per pixel (its default) four: and the
+/// direct light's film (its types are not the chains', so the type buffers are counted once)
+/// and its error estimate's two images (12 bytes a pixel each, half_split_error.h).
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
-    if (hasPartitions(algorithm)) return std::max(0, partitionsOf(s)) + 1;
-    if (algorithm == "mlt" && mltParameters().resolve(s.parameters).direct != "chains") return 3;
+    if (hasPartitions(algorithm)) return 2 * (std::max(0, partitionsOf(s)) + 1);
+    if (algorithm == "mlt") return mltParameters().resolve(s.parameters).direct != "chains" ? 4 : 2;
     return 1;
 }
 

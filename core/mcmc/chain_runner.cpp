@@ -29,6 +29,7 @@ struct ChainRunner::Chain {
     uint64_t lastMove = 0;       // 1 + the index of its last mutation that moved; 0: none yet
     PathType startType;          // its path's type when its counted mutations began
     bool leftStartType = false;  // its path's type has differed from startType since
+    bool oddHalf = false;        // every other chain of its group in plan order (halvesError)
     std::vector<Film*> films;    // where its splats go (see FilmLayout)
 };
 
@@ -46,6 +47,10 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
         const bool combinedOnly = layout == FilmLayout::AllAndHalf && g == 1;
         films_.emplace_back(w, h, combinedOnly ? TypeLayers::of({}) : plan.layers);
     }
+    if (layout == FilmLayout::PerGroupWithHalves)
+        for (size_t g = 0; g < plan.groups.size(); ++g)
+            films_.emplace_back(w, h, TypeLayers::of({}));
+    std::vector<uint64_t> chainsOfGroup(plan.groups.size(), 0);
     for (const PlannedChain& c : plan.chains) {
         MarkovPath start;
         start.vertices = deserializePath(ctx.scene, ctx.camera, c.start);
@@ -54,7 +59,8 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
         PathRestriction restriction = restrictions ? restrictions(c.group) : PathRestriction{};
         chains_.push_back(std::make_unique<Chain>(mutations(c.group), std::move(restriction),
                                                   std::move(start), Rng(plan.seed, c.stream), c));
-        chains_.back()->films = filmsOf(c.group);
+        chains_.back()->oddHalf = (chainsOfGroup.at(c.group)++ % 2) == 1;
+        chains_.back()->films = filmsOf(c.group, chains_.back()->oddHalf);
     }
 }
 
@@ -78,6 +84,7 @@ void ChainRunner::run(ProgressReporter& progress, double seconds,
         double elapsed = std::chrono::duration<double>(now - start).count();
         publishProgressValues(progress);
         if (afterRound) afterRound(elapsed);
+        if (stopRequested_) break;
         if (seconds > 0 && elapsed >= seconds) break;
         if (seconds > 0) {
             double roundSeconds = std::chrono::duration<double>(now - roundStart).count();
@@ -164,8 +171,13 @@ void ChainRunner::publishProgressValues(ProgressReporter& progress) const {
     progress.setValues(std::move(values));
 }
 
-std::vector<Film*> ChainRunner::filmsOf(uint32_t group) {
+std::vector<Film*> ChainRunner::filmsOf(uint32_t group, bool oddHalf) {
     if (layout_ == FilmLayout::PerGroup) return {&films_[group]};
+    if (layout_ == FilmLayout::PerGroupWithHalves) {
+        // The odd half's film gets the same fixed-point splats: all less it is the even half.
+        if (oddHalf) return {&films_[group], &films_[plan_.groups.size() + group]};
+        return {&films_[group]};
+    }
     // Every chain into film 0, and group 1's also into film 1: each splat is rounded to fixed
     // point on its own, the same in both films, so film 0 = group 0 + group 1 exactly.
     if (group == 1) return {&films_[0], &films_[1]};
@@ -218,6 +230,40 @@ std::vector<std::pair<std::string, MutationStats>> ChainRunner::mutationStats(in
         }
     }
     return out;
+}
+
+uint64_t ChainRunner::halfMutationsDone(uint32_t group, bool odd) const {
+    uint64_t n = 0;
+    for (const auto& c : chains_)
+        if (c->plan.group == group && c->oddHalf == odd) n += c->done;
+    return n;
+}
+
+ErrorSums ChainRunner::halvesError(uint32_t group) const {
+    const int w = ctx_.settings.width, h = ctx_.settings.height;
+    switch (layout_) {
+        case FilmLayout::AllAndHalf:
+            return filmHalvesError(films_[0], films_[1], plan_.groups[0].b, w, h, mutationsDone(0),
+                                   mutationsDone(1));
+        case FilmLayout::PerGroupWithHalves:
+            return filmHalvesError(films_[group], films_[plan_.groups.size() + group],
+                                   plan_.groups[group].b, w, h, halfMutationsDone(group, false),
+                                   halfMutationsDone(group, true));
+        case FilmLayout::PerGroup:
+            break;
+    }
+    return {};
+}
+
+ErrorSums filmHalvesError(const Film& all, const Film& half, double b, int width, int height,
+                          uint64_t mutationsA, uint64_t mutationsB) {
+    if (mutationsA == 0 || mutationsB == 0) return {};
+    const float scaleA = ChainRunner::filmScale(b, width, height, mutationsA);
+    Image a = all.resolveCombined(scaleA);  // (A + B) scaled as A
+    const Image halfAsA = half.resolveCombined(scaleA);
+    for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] -= halfAsA.rgb[i];
+    const Image halfB = half.resolveCombined(ChainRunner::filmScale(b, width, height, mutationsB));
+    return halvesError(a, halfB, double(mutationsA), double(mutationsB));
 }
 
 uint64_t ChainRunner::rays(int group) const {

@@ -14,6 +14,7 @@
 
 #include "algorithm.h"
 #include "film.h"
+#include "half_split_error.h"
 #include "mcmc/chain_plan.h"
 #include "mcmc/markov_chain.h"
 #include "mcmc/veach_mutations.h"
@@ -37,6 +38,10 @@ class ChainRunner {
         /// combined image of group 1's chains. Group 0's image is film 0 less film 1, exactly
         /// (fixed-point sums), so the halves cost one layered film, not two (issue #24).
         AllAndHalf,
+        /// PerGroup, and after the groups' films one combined-only film per group holding its
+        /// odd chains (every other chain of the group in plan order): group g's two halves, for
+        /// its error estimate (halvesError), at 24 bytes a pixel more per group.
+        PerGroupWithHalves,
     };
 
     /// Builds every chain from the plan; std::invalid_argument when a start is not a path of
@@ -81,6 +86,16 @@ class ChainRunner {
     uint64_t typeBoundChains(int group = -1) const;
     /// Rays traced by the chains (of a group if >= 0), burn-in included.
     uint64_t rays(int group = -1) const;
+    /// The estimated error of a group's image from its two halves of chains (independent
+    /// chains: each half's image, resolved with b W H / its own mutations, estimates the same
+    /// image; half_split_error.h). PerGroupWithHalves: group g's even and odd chains;
+    /// AllAndHalf: the image of groups 0 and 1 together (pass 0). Zero sums in the PerGroup
+    /// layout or while a half has no mutation. b's own error is not in it (ErrorSums::
+    /// addScaleVariance). Between runs or rounds only (afterRound), not while chains run.
+    ErrorSums halvesError(uint32_t group) const;
+    /// Asks run() to return after the round under way (a target error reached); thread-safe.
+    void requestStop() { stopRequested_ = true; }
+    bool stopRequested() const { return stopRequested_; }
     /// Burn-in steps run, over all chains (a time budget's burn-in stops at its share of the
     /// time, startup_rule.h).
     uint64_t burnInSteps() const;
@@ -94,7 +109,9 @@ class ChainRunner {
     void burnIn(double seconds);
     void runRound(uint64_t roundLength, ProgressReporter& progress);
     /// The films a chain of `group` splats into (see FilmLayout).
-    std::vector<Film*> filmsOf(uint32_t group);
+    std::vector<Film*> filmsOf(uint32_t group, bool oddHalf);
+    /// Mutations done by the even (odd = false) or odd chains of a group.
+    uint64_t halfMutationsDone(uint32_t group, bool odd) const;
     void publishProgressValues(ProgressReporter& progress) const;
 
     const RenderContext& ctx_;
@@ -103,6 +120,13 @@ class ChainRunner {
     FilmLayout layout_;
     std::vector<std::unique_ptr<Chain>> chains_;
     std::vector<Film> films_;
+    std::atomic<bool> stopRequested_{false};
 };
+
+/// The error sums of an image made of two halves' films: `all` holds both halves' splats,
+/// `half` half B's alone (combined sums), each half's image is its film scaled by
+/// b W H / its mutations (ChainRunner::filmScale), half A's made of all less half.
+ErrorSums filmHalvesError(const Film& all, const Film& half, double b, int width, int height,
+                          uint64_t mutationsA, uint64_t mutationsB);
 
 }  // namespace partita

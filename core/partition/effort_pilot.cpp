@@ -120,8 +120,9 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
         for (PerPixelEstimator estimator : estimators) {
             const PerPixelPilot pilot =
                 runPerPixelPilot(ctx, partitions, estimator, kPerPixelPilotSample, progress);
-            out.pixelPilots.push_back(
-                {estimator, pilot.variance, timed ? pilot.secondsPerSample : pilot.raysPerSample});
+            out.pixelPilots.push_back({estimator, pilot.variance,
+                                       timed ? pilot.secondsPerSample : pilot.raysPerSample,
+                                       pilot.varianceRgb});
             out.rays += uint64_t(2 * pilot.raysPerSample);
             ctx.throwIfCancelled();
         }

@@ -33,6 +33,7 @@ struct PixelPilot {
     PerPixelEstimator estimator = PerPixelEstimator::Bdpt;
     std::vector<double> variance;
     double cost = 0;
+    std::vector<double> varianceRgb;  // PerPixelPilot's
 };
 
 struct EffortMeasurement {

@@ -169,11 +169,15 @@ std::vector<Partition> makePartitions(const PrepassResult& prepass, int k, doubl
     }
     // The complement's b: half B's paths of every type no partition took, those absent from
     // half A too (summed type by type: exactly 0 when every type has a partition).
-    double restB = 0;
+    double restB = 0, restSquares = 0;
     for (const auto& [type, c] : prepass.sumB)
-        if (std::none_of(out.begin(), out.end(), [&](const Partition& p) { return p.holds(type); }))
+        if (std::none_of(out.begin(), out.end(),
+                         [&](const Partition& p) { return p.holds(type); })) {
             restB += c;
+            restSquares += valueOr0(prepass.sumSquaresB, type);
+        }
     complement.b = restB / nB;
+    complement.bError = relativeError(restB, restSquares, nB);
     // Types seen only in half B still need mutations: rank the complement by its half-B sum.
     if (complement.gamma <= 0) complement.gamma = complement.b * nB;
     if (complement.b > 0) out.push_back(complement);

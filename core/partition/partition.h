@@ -25,11 +25,11 @@ struct Partition {
     /// of every other partition, which it excludes.
     std::vector<TypePattern> patterns;
     bool complement = false;
-    double gamma = 0;   // half A
-    double p = 0;       // P(i)
-    double b = 0;       // half B's estimate of the integral of f* over the partition
-    double bError = 0;  // its relative standard error from half B's spread (0: the complement's,
-                        // not estimated)
+    double gamma = 0;       // half A
+    double p = 0;           // P(i)
+    double b = 0;           // half B's estimate of the integral of f* over the partition
+    double bError = 0;      // its relative standard error from half B's spread (the complement's
+                            // summed type by type, as a class's)
     bool perPixel = false;  // estimated per pixel by restricted BDPT, not by chains (issue #23 1)
 
     /// Whether a path of type t belongs here (the chains' restriction).

@@ -43,8 +43,10 @@ ChainPlan planPartitionChains(const RenderContext& ctx, const BootstrapSampler& 
         if (mutations[g] == 0) continue;
         double share = double(mutations[g]) / double(std::max<uint64_t>(1, total));
         uint64_t byShare = uint64_t(std::llround(share * double(s.chains)));
-        uint64_t chains = std::clamp<uint64_t>(
-            byShare, 1, std::max<uint64_t>(1, mutations[g] / s.minMutationsPerChain));
+        // At least two where the mutations allow: the error estimate's two halves (issue #26,
+        // partition_error.h).
+        const uint64_t most = std::max<uint64_t>(1, mutations[g] / s.minMutationsPerChain);
+        uint64_t chains = std::clamp<uint64_t>(byShare, std::min<uint64_t>(2, most), most);
         std::vector<uint32_t> members = candidatesOf(prepass, partitions[g]);
         Rng rng(ctx.settings.seed, kResampleStream + g + (salt << 32));
         std::vector<size_t> starts =

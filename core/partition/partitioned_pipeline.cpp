@@ -6,11 +6,13 @@
 #include "camera.h"
 #include "clock.h"
 #include "mcmc/bootstrap.h"
+#include "mcmc/chain_error_monitor.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/startup_parameters.h"
 #include "mcmc/startup_rule.h"
 #include "partition/effort_pilot.h"
 #include "partition/partition_chains.h"
+#include "partition/partition_error.h"
 #include "partition/per_pixel_partitions.h"
 #include "path_type_bytes.h"
 #include "progress_reporter.h"
@@ -70,7 +72,7 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
         st.values[key + "gamma"] = p.gamma;
         st.values[key + "p"] = p.p;
         st.values[key + "b"] = p.b;
-        if (!p.complement) st.values[key + "b_error"] = p.bError;
+        st.values[key + "b_error"] = p.bError;
         st.values[key + "mutations"] = groups.mutations(g);
         st.values[key + "acceptance"] = groups.acceptance(g);
         st.values[key + "stuck_chains"] = groups.stuckChains(g);
@@ -108,6 +110,9 @@ struct PartitionedStart {
     uint64_t perPixelSpp = 0;  // a mutation budget's per-pixel samples of every pixel
     double pixelShare = 0;     // a time budget's share of the time left for them
     PerPixelEstimator pixelEstimator = PerPixelEstimator::Bdpt;
+    /// The chosen per-pixel estimator's pilot variances (PerPixelPilot::varianceRgb), for the
+    /// error estimate; not in a shard plan (a sharded job estimates none).
+    std::vector<double> pixelVarianceRgb;
 
     bool anyPerPixel() const {
         for (const Partition& p : partitions)
@@ -190,6 +195,7 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
             plan = std::move(candidate);
             pixelCost = pilot.cost;
             out.pixelEstimator = pilot.estimator;
+            out.pixelVarianceRgb = pilot.varianceRgb;
         }
     }
     addEffortStats(out.stats, m, plan, pixelCost);
@@ -459,7 +465,13 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     const double startupSeconds = st.startupSeconds + pixels.seconds;
     // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
     const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, st.prepared);
-    ChainRunner runner(ctx, st.plan, factory, restrictionsOf(partitions), settings.roundMutations);
+    // Each partition's odd chains get a film of their own (the error estimate).
+    ChainRunner runner(ctx, st.plan, factory, restrictionsOf(partitions), settings.roundMutations,
+                       ChainRunner::FilmLayout::PerGroupWithHalves);
+    ChainErrorMonitor monitor(rs, settings.targetError, [&] {
+        return estimatePartitionError(partitions, runner, pixelImages, st.pixelVarianceRgb,
+                                      pixels.spp);
+    });
     auto imageOf = [&](uint32_t g) {
         return partitions[g].perPixel ? pixelImages[g] : runner.resolveGroupCombined(g);
     };
@@ -473,6 +485,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
             [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
             [&](ProgressReporter& progress) {
                 progress.setPartitions(partitionProgress(partitions, runner));
+                monitor.afterRound(runner, progress);
             });
 
     RenderResult result;
@@ -482,11 +495,16 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
                   st.startupRays + uint64_t(pixelRays), double(rs.width) * rs.height);
     addPartitionStats(result.stats, partitions, progressOf(runner));
     addPerPixelStats(result.stats, pixels, pixelRays);
+    monitor.estimateNow();
+    monitor.addStats(result.stats);
     return result;
 }
 
 std::vector<uint8_t> PartitionedShards::plan(const RenderContext& ctx) {
     requireMutationBudget(ctx, algorithm_);
+    if (settings_.targetError > 0)
+        throw std::invalid_argument("a sharded " + algorithm_ +
+                                    " job renders its whole budget: leave target_error at 0");
     return serializeStart(startPartitioned(ctx, settings_, algorithm_, mutations_));
 }
 

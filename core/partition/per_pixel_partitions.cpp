@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "clock.h"
+#include "half_split_error.h"
 #include "image_metrics.h"
 #include "integrators/bdpt/bdpt_passes.h"
 #include "integrators/pt/pt_integrator.h"
@@ -96,8 +97,12 @@ PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Parti
     const std::vector<Image> ia = a.images(1), ib = b.images(1);
     PerPixelPilot out;
     out.variance.assign(partitions.size(), 0);
-    for (size_t g = 0; g < partitions.size(); ++g)
+    out.varianceRgb.assign(partitions.size(), 0);
+    for (size_t g = 0; g < partitions.size(); ++g) {
         out.variance[g] = luminanceSquaredDifference(ia[g], ib[g]) / 2;
+        // halvesError's is the variance of the two samples' mean: one sample's is twice it.
+        out.varianceRgb[g] = 2 * halvesError(ia[g], ib[g], 1, 1).variance;
+    }
     out.raysPerSample = double(a.rays() + b.rays()) / 2;
     out.secondsPerSample = secondsSince(begin) / 2;
     return out;

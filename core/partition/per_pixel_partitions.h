@@ -66,6 +66,9 @@ std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>
 /// sample of every pixel. Partitions that are not per pixel get V_g = 0.
 struct PerPixelPilot {
     std::vector<double> variance;
+    /// The same over pixel-channels (RGB): partition g's image after n samples per pixel has
+    /// this / n (the error estimate, issue #26).
+    std::vector<double> varianceRgb;
     double raysPerSample = 0;
     double secondsPerSample = 0;
 };

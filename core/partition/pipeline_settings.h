@@ -7,6 +7,7 @@
 
 #include "mcmc/startup_parameters.h"
 #include "params/settings_table.h"
+#include "target_error.h"
 
 namespace partita {
 
@@ -40,6 +41,9 @@ struct PartitionPipelineSettings {
     /// The chains' pilot's share of the budget (of the mutations, or of the time left after the
     /// pre-pass).
     double pilotShare = 0.05;
+    /// Stop once the render's own estimate of the combined image's relative RMSE is at or
+    /// below this (partition_error.h); 0: never. Parameter "target_error".
+    double targetError = 0;
 };
 
 /// Declares the pipeline's parameters in the table of S (PartitionedSettings, GuidedSettings).
@@ -89,6 +93,9 @@ void addPipelineParameters(SettingsTable<S>& t) {
                         "image")
               .within(0.001, 0.5),
           &PartitionPipelineSettings::pilotShare);
+    t.add(targetErrorParameter("each partition's: two halves of its chains and its b's error, "
+                               "or its per-pixel pilot's variance"),
+          &PartitionPipelineSettings::targetError);
 }
 
 }  // namespace partita

@@ -1,6 +1,7 @@
 """The dashboard in a real headless browser (Debian's chromium, driven through chromedriver by
-Selenium): submit a small `partitioned` job from the form, see preview frames arrive and a
-partition tile change, download the EXR, which must equal what `partita get` fetches over gRPC;
+Selenium): submit a small `partitioned` job from the form, see preview frames arrive, a
+partition tile change and the convergence plot draw the combined and the partitions' error
+curves, download the EXR, which must equal what `partita get` fetches over gRPC;
 see a `pt` job's convergence plot gain points, and cancel it. Screenshots go to $PARTITA_ARTIFACTS/dashboard/.
 
 Where Chromium, chromedriver or Selenium is missing, the whole class is skipped saying which
@@ -145,6 +146,9 @@ class DashboardBrowserTest(unittest.TestCase):
                  60, "a partition tile to change")
         rows = self.driver.find_elements("css selector", "#partitions tbody tr")
         self.assertGreaterEqual(len(rows), 2, "the partition table lists the partitions")
+        # The convergence plot draws the combined image's curve and the partitions' curves.
+        wait_for(lambda: int(self.find("#plot").get_attribute("data-curves") or 0) >= 2, 60,
+                 "the combined and a partition's error curves")
         self.screenshot("job-rendering.png")
         wait_for(lambda: self.state() == "DONE", 90, "the job to finish")
         self.screenshot("job-done.png")

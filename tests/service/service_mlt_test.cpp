@@ -105,7 +105,12 @@ TEST(ServiceMlt, JobHasBootstrapAndRenderPhasesAcceptanceAPreviewLayersAndStats)
         EXPECT_TRUE(a > 0 && a <= 1) << name << " " << a;
     }
     for (const auto& [key, value] : last.values())
-        EXPECT_TRUE(key == "mutations" || key.rfind("acceptance_", 0) == 0) << key;
+        EXPECT_TRUE(key == "mutations" || key == "error_estimate" ||
+                    key.rfind("acceptance_", 0) == 0)
+            << key;
+    // The render's own error estimate (two halves of its chains, issue #26).
+    ASSERT_TRUE(last.values().count("error_estimate"));
+    EXPECT_GT(last.values().at("error_estimate"), 0.0);
 
     // A preview during the chains, then the final frame.
     auto frames = log.frames();

@@ -62,8 +62,9 @@ TEST(ServiceResources, MltEstimateCountsItsBootstrapAndChains) {
     Submitted refused = submit(*stub, mlt);
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     const std::string& why = refused.status.error_message();
-    // The chains' film, the odd half's and the direct light's film (direct per-pixel).
-    EXPECT_NE(why.find("3 films"), std::string::npos) << "mlt's three films\n" << why;
+    // The chains' film, the odd half's, the direct light's film and its error estimate's two
+    // images (direct per-pixel).
+    EXPECT_NE(why.find("4 films"), std::string::npos) << "mlt's four films\n" << why;
     EXPECT_NE(why.find("mlt bootstrap 53.4 MiB"), std::string::npos) << why;
     EXPECT_NE(why.find("chains 4.0 MiB"), std::string::npos) << why;
     EXPECT_EQ(waitForEnd(*stub, pt.id, 60s).state(), pb::JOB_STATE_DONE);
@@ -91,7 +92,8 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Daemon daemon(store.path(), {"--max-job-memory", "32"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // 16x12, K = 10, a time budget: ~37 MiB by the estimate: 11 films (K and the complement),
+    // 16x12, K = 10, a time budget: ~37 MiB by the estimate: 22 films (K and the complement,
+    // each its chains' and its odd chains' for the error estimate),
     // the pre-pass's half-B records (the start-up rule's 100000 samples for a time budget:
     // 50000 of ~13 records of 40 B: 24.8 MiB) and the 256 chains' states as for mlt (4 MiB).
     pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
@@ -101,7 +103,9 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Submitted refused = submit(*stub, spec);
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     const std::string& why = refused.status.error_message();
-    EXPECT_NE(why.find("11 films"), std::string::npos) << "one film per partition\n" << why;
+    EXPECT_NE(why.find("22 films"), std::string::npos)
+        << "two films per partition (its chains' and its odd chains')\n"
+        << why;
     EXPECT_NE(why.find("11 partitions"), std::string::npos) << why;
     EXPECT_NE(why.find("pre-pass records 24.8 MiB"), std::string::npos) << why;
     EXPECT_NE(why.find("chains 4.0 MiB"), std::string::npos) << why;

@@ -112,7 +112,10 @@ TEST(ProgressReporter, MltReportsBootstrapThenMutationsWithAcceptance) {
     }
     EXPECT_GE(acceptances, 3u)
         << "cornell: at least the bidirectional, lens and independence mutations";
-    EXPECT_EQ(last.values.size(), acceptances + 1);
+    // And the render's own error estimate (mcmc/chain_error_monitor.h), the final one's.
+    ASSERT_TRUE(last.values.count("error_estimate"));
+    EXPECT_GT(last.values.at("error_estimate"), 0.0);
+    EXPECT_EQ(last.values.size(), acceptances + 2);
 }
 
 TEST(ProgressReporter, PartitionsGoOutWithTheNextReportAndStay) {

@@ -164,8 +164,19 @@ class ClientTest(unittest.TestCase):
         self.assertEqual(stats["reached_target_error"], 1.0)
         self.assertLessEqual(stats["error_estimate"], 0.25)
         self.assertLess(stats["spp"], 65536)
-        with self.assertRaises(ValueError):  # the MCMC methods do not estimate it yet
-            self.client.submit("cornell", algorithm="mlt", mpp=4, target_error=0.25)
+
+    def test_target_error_stops_an_mlt_job_at_its_estimate(self):
+        # mlt estimates its own error (two halves of its chains, b's error, the direct light's
+        # pilot variance) and stops there: long before its 4096 mutations a pixel.
+        job = self.client.submit("cornell", algorithm="mlt", mpp=4096, width=16, height=12,
+                                 seed=2, bootstrap=20000, target_error=0.3)
+        events = list(self.client.watch(job))
+        states = [e.job.state for e in events if isinstance(e, StateEvent)]
+        self.assertEqual(states[-1], "done", states)
+        stats = self.client.metadata(job)["stats"]
+        self.assertEqual(stats["reached_target_error"], 1.0)
+        self.assertLessEqual(stats["error_estimate"], 0.3)
+        self.assertLess(stats["mpp"], 4096)
 
     def test_partitioned_progress_carries_its_partitions(self):
         job, events = self.watch_from_the_queue(lambda: self.client.submit(
@@ -227,7 +238,8 @@ class ClientTest(unittest.TestCase):
         self.assertTrue(guided.parameters["width"].shared)
         self.assertEqual([p.name for p in guided.own_parameters()],
                          ["k", "partitions", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
-                          "estimators", "allocation", "pilot_share", "large_step_rate", "y",
+                          "estimators", "allocation", "pilot_share", "target_error",
+                          "large_step_rate", "y",
                           "radius", "epsilon"])
         self.assertEqual([p.name for p in algorithms["pt"].own_parameters()], ["target_error"])
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "half_split_error.h"
 #include "image_metrics.h"
 #include "integrators/pt/pt_integrator.h"
 #include "light_emission.h"
@@ -86,6 +87,9 @@ void DirectLightRenderer::renderPass(SampleRange range, ProgressReporter* progre
     const uint64_t most = maxPassSamples();
     for (uint64_t first = range.first; first < range.end; first += most)
         renderPassPart({first, std::min(range.end, first + most)}, progress);
+    if (range.count() == 0) return;
+    halves_.addRun(film_.resolveCombined(1.0f), range.count(), nextHalfA_);
+    nextHalfA_ = !nextHalfA_;
 }
 
 void DirectLightRenderer::renderPassPart(SampleRange range, ProgressReporter* progress) {
@@ -191,6 +195,7 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
     const Image a = out.renderer->film().resolveCombined(1.0f);
     const Image b = second.film().resolveCombined(1.0f);
     out.variance = luminanceSquaredDifference(a, b) / 2;
+    out.errorSums = halvesError(a, b, 1, 1);
     out.renderer->absorb(second);
     out.rays = double(out.renderer->rays());
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();

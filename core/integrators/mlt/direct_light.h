@@ -25,6 +25,7 @@
 
 #include "algorithm.h"
 #include "film.h"
+#include "half_split_error.h"
 #include "integrators/sample_passes.h"
 #include "mcmc/markov_chain.h"
 #include "path/random_walk.h"
@@ -58,6 +59,11 @@ class DirectLightRenderer {
     void renderPass(SampleRange range, ProgressReporter* progress);
     const Film& film() const { return film_; }
     Film takeFilm() { return std::move(film_); }
+    /// The error estimate of its image (issue #26): its renderPass calls alternate between two
+    /// halves (the first call's samples half A, the next's half B, ...). Samples stratified
+    /// across the sample index make it an overestimate: each half is less stratified than the
+    /// whole.
+    const HalfSplitError& halves() const { return halves_; }
     uint64_t rays() const { return rays_.load(); }
     /// Adds another renderer's film and rays (samples of other indices: the film sums exactly,
     /// so this is the film that rendering them here would give).
@@ -87,6 +93,8 @@ class DirectLightRenderer {
     bool lightTracing_ = false;  // the scene has a light that camera rays cannot hit but see
     uint64_t streams_;
     std::atomic<uint64_t> rays_{0};
+    HalfSplitError halves_;
+    bool nextHalfA_ = true;
 };
 
 /// The direct part's image after `spp` samples per pixel (as pt's and bdpt's: the film / spp).
@@ -102,6 +110,9 @@ LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayer
 struct DirectPilot {
     std::unique_ptr<DirectLightRenderer> renderer;  // both samples (a preview's direct light)
     double variance = 0;                            // V_d
+    /// The error sums of the pilot's image (its two samples' mean; half_split_error.h): the
+    /// previews' direct light until the direct light proper has run (issue #26).
+    ErrorSums errorSums;
     double rays = 0;
     double seconds = 0;
 };

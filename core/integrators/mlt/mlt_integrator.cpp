@@ -1,6 +1,7 @@
 #include "integrators/mlt/mlt_integrator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@
 #include "integrators/mlt/direct_light.h"
 #include "integrators/mlt/mlt_shards.h"
 #include "mcmc/bootstrap.h"
+#include "mcmc/chain_error_monitor.h"
 #include "mcmc/chain_render.h"
 #include "mcmc/chain_runner.h"
 #include "mcmc/startup_parameters.h"
@@ -36,14 +38,16 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
     ProgressReporter progress(ctx.observer, "bootstrap", "samples", double(samples));
     struct Block {
         std::vector<BootstrapCandidate> candidates;
-        double sum = 0;
+        double sum = 0, squares = 0;
         uint64_t rays = 0;
     };
     auto run = [&](uint64_t k, Block& block) {
         uint64_t first = k * kBootstrapBlock, end = std::min(samples, first + kBootstrapBlock);
         for (uint64_t i = first; i < end; ++i) {
             if ((i & 15) == 0) ctx.throwIfCancelled();
-            block.sum += sampler.sample(i, block.candidates, block.rays);
+            const double value = sampler.sample(i, block.candidates, block.rays);
+            block.sum += value;
+            block.squares += value * value;
         }
         progress.advance(double(end - first));
     };
@@ -55,6 +59,7 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
     double sum = 0;
     auto merge = [&](Block& block) {  // in block order: the same sums for any thread count
         sum += block.sum;
+        r.sumSquares += block.squares;
         r.rays += block.rays;
         r.candidates.insert(r.candidates.end(), block.candidates.begin(), block.candidates.end());
     };
@@ -65,6 +70,30 @@ BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& s
     r.samples = std::min(samples, ran * kBootstrapBlock);
     r.b = r.samples > 0 ? sum / double(r.samples) : 0;
     return r;
+}
+
+double bRelativeVariance(const BootstrapResult& bootstrap, const PathRestriction& restriction) {
+    double s1 = 0, s2 = restriction ? 0 : bootstrap.sumSquares;
+    if (!restriction) {
+        s1 = bootstrap.b * double(bootstrap.samples);
+    } else {
+        // The candidates come in sample order: sum the accepted ones sample by sample.
+        double sample = 0;
+        uint64_t index = UINT64_MAX;
+        for (const BootstrapCandidate& c : bootstrap.candidates) {
+            if (!restriction(c.type)) continue;
+            if (c.sample != index) {
+                s2 += sample * sample;
+                sample = 0;
+                index = c.sample;
+            }
+            sample += double(c.weight);
+            s1 += double(c.weight);
+        }
+        s2 += sample * sample;
+    }
+    if (!(s1 > 0) || bootstrap.samples == 0) return 0;
+    return std::max(0.0, s2 / (s1 * s1) - 1.0 / double(bootstrap.samples));
 }
 
 TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
@@ -148,6 +177,8 @@ MltStart startMlt(const RenderContext& ctx, const MltSettings& settings) {
     out.plan = planMltChains(ctx, sampler, out.bootstrap, chains, mutations,
                              out.directApart ? indirectLightOnly() : PathRestriction{});
     if (out.directApart) out.bDirect = out.bootstrap.b - out.plan.groups[0].b;
+    out.bRelativeVariance =
+        bRelativeVariance(out.bootstrap, out.directApart ? indirectLightOnly() : PathRestriction{});
     return out;
 }
 
@@ -195,8 +226,11 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
                               std::max<uint64_t>(2, settings.directMaxSpp));
     }
     out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.all->layers());
-    // No progress reports: the render phase's last report stays the chains' (mutations).
-    out.renderer->renderPass({0, spp}, nullptr);
+    // No progress reports: the render phase's last report stays the chains' (mutations). Two
+    // passes, the halves of its error estimate (the same film as one: every sample has its own
+    // stream and the sums are exact).
+    out.renderer->renderPass({0, spp / 2}, nullptr);
+    out.renderer->renderPass({spp / 2, spp}, nullptr);
     out.spp = spp;
     out.seconds = secondsSince(begin) + pilotSeconds;
     return out;
@@ -221,14 +255,23 @@ void addDirectLightStats(RenderStats& st, bool apart, const DirectLightRun& dire
 
 namespace {
 
+/// With a target error E and a part of the image that renders apart (mlt's chains and its
+/// direct light after them), each part gets half of E^2: the value compared with E is
+/// sqrt(2 Var_part / count) / mean of the whole image (`total`).
+double sharedTargetValue(const ErrorSums& part, const ErrorSums& total) {
+    if (!(part.count > 0) || !(total.value > 0)) return INFINITY;
+    return std::sqrt(2 * part.variance / part.count) / (total.value / total.count);
+}
+
 /// Runs the chains for `seconds` (a time budget's stage) after `startupSeconds` of the job.
 void runChainsFor(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
                   double startupSeconds, double seconds,
-                  const std::function<LayeredImage(ThreadPool*)>& resolve) {
+                  const std::function<LayeredImage(ThreadPool*)>& resolve,
+                  const std::function<void(ProgressReporter&)>& afterRound) {
     RenderSettings stage = ctx.settings;
     stage.budget = startupSeconds + seconds;
     RenderContext stageCtx{ctx.scene, ctx.camera, stage, ctx.pool, ctx.cancel, ctx.observer};
-    runChainsWithPreviews(stageCtx, runner, plan, startupSeconds, resolve, {});
+    runChainsWithPreviews(stageCtx, runner, plan, startupSeconds, resolve, {}, afterRound);
 }
 
 /// A time budget's fixed direct light before the chains: settings.directSpp samples per pixel,
@@ -267,8 +310,10 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
     auto makeMutations = [&](uint32_t) { return makeMltMutations(ctx, settings_); };
     ChainRunner::RestrictionFactory restrictions;
     if (apart) restrictions = [](uint32_t) { return indirectLightOnly(); };
-    ChainRunner runner(ctx, plan, makeMutations, restrictions, settings_.roundMutations,
-                       mltFilmLayout(apart));
+    // With every path in the chains, their odd half gets a film of its own (the error estimate).
+    ChainRunner runner(
+        ctx, plan, makeMutations, restrictions, settings_.roundMutations,
+        apart ? ChainRunner::FilmLayout::AllAndHalf : ChainRunner::FilmLayout::PerGroupWithHalves);
     ChainHalves halves;
     if (apart) halves = {&runner.film(0), &runner.film(1), {0, 0}, plan.groups[0].b};
     auto countHalves = [&] {
@@ -287,17 +332,57 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
         return apart ? addDisjointParts(directImage, std::move(chains), rs.maxTypeLayers) : chains;
     };
 
+    // The error estimate (issue #26): the chains' two halves with b's error and, with the
+    // direct light apart, the direct image's: its pilot's two samples until the direct light
+    // proper has run, then that one's own halves.
+    ErrorSums pilotError;
+    const DirectLightRenderer* directRenderer = nullptr;
+    auto directError = [&]() -> ErrorSums {
+        if (directRenderer && directRenderer->halves().ready())
+            return directRenderer->halves().errorSums();
+        return pilotError;
+    };
+    // A mutation budget renders the direct light after the chains, with as many samples as
+    // the target needs (below): its chains stop on their own share of the target, half the
+    // squared error, of the image with the direct light as far as it has run.
+    const bool directAfterChains = apart && !timed;
+    auto chainsError = [&] {
+        ErrorSums chains = runner.halvesError(0);
+        chains.addScaleVariance(mltStart.bRelativeVariance);
+        return chains;
+    };
+    ChainErrorMonitor monitor(rs, settings_.targetError, [&] {
+        ChainErrorMonitor::Estimate estimate;
+        const ErrorSums chains = chainsError();
+        if (!(chains.count > 0)) return estimate;
+        ErrorSums total;
+        total.add(chains);
+        if (apart) {
+            const ErrorSums direct = directError();
+            if (!(direct.count > 0)) {
+                if (directAfterChains) estimate.target = sharedTargetValue(chains, chains);
+                return estimate;
+            }
+            total.add(direct);
+            if (directAfterChains) estimate.target = sharedTargetValue(chains, total);
+        }
+        estimate.combined = total.relativeRmse();
+        return estimate;
+    });
+    auto afterRound = [&](ProgressReporter& progress) { monitor.afterRound(runner, progress); };
+
     DirectLightRun direct;
     double startupSeconds = bootstrapSeconds;
     if (!apart) {
-        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {}, afterRound);
     } else if (settings_.directSpp > 0 && timed) {
         // A fixed count first, then the chains with the time left.
         direct = fixedDirectLightFirst(ctx, settings_, plan.layers, bootstrapSeconds);
         startupSeconds += direct.seconds;
         directImage =
             resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
-        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+        directRenderer = direct.renderer.get();
+        runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {}, afterRound);
     } else {
         // The pilot's two samples per pixel first (the previews' direct light).
         DirectPilot pilot;
@@ -307,13 +392,31 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             pilotProgress.flush();
             directImage = resolveDirectLight(pilot.renderer->film(), 2, rs.maxTypeLayers, nullptr);
             startupSeconds += pilot.seconds;
+            pilotError = pilot.errorSums;
         }
         if (!timed) {
             // A mutation budget: all the chains, then the direct light the rule gives them.
-            runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {});
+            runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {}, afterRound);
             countHalves();
             direct = directLightAfterChains(ctx, settings_, halves, double(runner.rays()),
                                             settings_.directSpp == 0 ? &pilot : nullptr);
+            directRenderer = direct.renderer.get();
+            if (settings_.targetError > 0) {
+                // The direct light's share of the target: half its square, as the chains'.
+                auto begin = Clock::now();
+                const ErrorSums chains = chainsError();
+                while (direct.spp < settings_.directMaxSpp) {
+                    ErrorSums total;
+                    total.add(chains);
+                    total.add(directError());
+                    if (sharedTargetValue(directError(), total) <= settings_.targetError) break;
+                    ctx.throwIfCancelled();
+                    const uint64_t next = std::min(settings_.directMaxSpp, 2 * direct.spp);
+                    direct.renderer->renderPass({direct.spp, next}, nullptr);
+                    direct.spp = next;
+                }
+                direct.seconds += secondsSince(begin);
+            }
             startupSeconds = bootstrapSeconds + direct.seconds;
         } else {
             // A time budget: the chains' first stage measures their error and cost in seconds,
@@ -323,7 +426,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             const double first =
                 settings_.firstChainShare * std::max(0.0, rs.budget - secondsSince(start));
             auto chainsStart = Clock::now();
-            runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve);
+            runChainsFor(ctx, runner, plan, secondsSince(start), first, resolve, afterRound);
             const double chainSeconds = secondsSince(chainsStart);
             countHalves();
             direct.renderer = std::make_unique<DirectLightRenderer>(ctx, plan.layers);
@@ -355,9 +458,12 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             direct.seconds = directSeconds;
             directImage = resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers,
                                              &ctx.pool);
+            directRenderer = direct.renderer.get();
             startupSeconds = bootstrapSeconds + directSeconds;
             const double elapsed = secondsSince(start);
-            runChainsFor(ctx, runner, plan, elapsed, std::max(0.0, rs.budget - elapsed), resolve);
+            // A target reached in the first stage leaves the chains one more round.
+            runChainsFor(ctx, runner, plan, elapsed, std::max(0.0, rs.budget - elapsed), resolve,
+                         afterRound);
             direct.timeShare = share;
         }
     }
@@ -366,7 +472,9 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
         directImage =
             resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, &ctx.pool);
         directTypes = direct.renderer->film().typeCount();
+        directRenderer = direct.renderer.get();
     }
+    monitor.estimateNow();  // the final image's (before the films are consumed)
 
     RenderResult result;
     RenderStats& st = result.stats;
@@ -380,6 +488,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
                   bootstrap.rays + uint64_t(directRays), pixels);
     addDirectLightStats(st, apart, direct, mltStart.bDirect, double(runner.rays()));
     if (apart) st.values["direct_seconds"] = direct.seconds;
+    monitor.addStats(st);
     // Last: the chains' image consumes their film (its memory given back layer by layer); with
     // the direct light apart, the direct film and the odd half's are let go first (their parts
     // are made): the same image as resolve(), with two films fewer at the peak.

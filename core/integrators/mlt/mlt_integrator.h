@@ -32,6 +32,7 @@ struct BootstrapCandidate;
 struct BootstrapResult {
     double b = 0;
     uint64_t samples = 0;
+    double sumSquares = 0;  // of the samples' values (b's error: bRelativeVariance)
     std::vector<BootstrapCandidate> candidates;
     uint64_t rays = 0;
 };
@@ -41,6 +42,11 @@ struct BootstrapResult {
 /// cancellable. Past `deadline` no further wave starts, and b counts the samples that ran.
 BootstrapResult runBootstrap(const RenderContext& ctx, const BootstrapSampler& sampler,
                              uint64_t samples, Deadline deadline = kNoDeadline);
+
+/// The relative variance of the b of the paths `restriction` accepts (all: the bootstrap's b),
+/// Var(b) / b^2 = S2 / S1^2 - 1 / N from the N samples' values summed per sample (S1) and their
+/// squares (S2); 0 when b is 0.
+double bRelativeVariance(const BootstrapResult& bootstrap, const PathRestriction& restriction);
 
 /// The type layers of an mlt render (type_layer_rule.h): the weights are the bootstrap
 /// candidates' weight sums per type (each type's share of b).
@@ -67,6 +73,7 @@ struct MltStart {
     /// bDirect is the bootstrap's b less the chains'.
     bool directApart = false;
     double bDirect = 0;
+    double bRelativeVariance = 0;  // of the chains' b (bRelativeVariance)
 };
 MltStart startMlt(const RenderContext& ctx, const MltSettings& settings);
 

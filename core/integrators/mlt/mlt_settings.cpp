@@ -2,6 +2,7 @@
 
 #include "mcmc/mutation_parameters.h"
 #include "mcmc/startup_parameters.h"
+#include "target_error.h"
 
 namespace partita {
 
@@ -23,6 +24,9 @@ const SettingsTable<MltSettings>& mltParameters() {
                   .withUnit("samples")
                   .within(0, 1 << 20),
               &MltSettings::directSpp);
+        t.add(targetErrorParameter("two halves of the chains, b's error and the direct "
+                                   "light's variance"),
+              &MltSettings::targetError);
         addMutationParameters(t);
         return t;
     }();

@@ -1,5 +1,6 @@
 // The settings of `mlt` with their defaults (Veach 1997, ch. 11; DESIGN.md), and the parameters
-// a job sets them with (mltParameters(): bootstrap, chains, startup_share, direct, direct_spp).
+// a job sets them with (mltParameters(): bootstrap, chains, startup_share, direct, direct_spp,
+// target_error).
 #pragma once
 
 #include <cstdint>
@@ -42,6 +43,11 @@ struct MltSettings {
     uint64_t directMaxSpp = 4096;
     double directShare = 0.5;
     double firstChainShare = 0.25;  // auto with a time budget: the chains' measuring stage
+    /// Stop once the render's own estimate of the combined image's relative RMSE is at or
+    /// below this (mcmc/chain_error_monitor.h: two halves of the chains, b's error, the direct
+    /// light's pilot variance); 0: never. Needs the pilot: refused with a fixed direct_spp.
+    /// Parameter "target_error".
+    double targetError = 0;
     VeachMutationSettings mutations;
 };
 

@@ -56,6 +56,9 @@ MltPlan deserializeMltPlan(std::span<const uint8_t> bytes) {
 
 std::vector<uint8_t> MltShards::plan(const RenderContext& ctx) {
     requireMutationBudget(ctx, "mlt");
+    if (settings_.targetError > 0)
+        throw std::invalid_argument(
+            "a sharded mlt job renders its whole budget: leave target_error at 0");
     MltStart start = startMlt(ctx, settings_);
     return serializeMltPlan(
         {std::move(start.plan), start.bootstrap.rays, start.directApart, start.bDirect});

@@ -52,6 +52,7 @@ function showProgress(progress) {
 }
 
 function showPartitions(partitions) {
+  partitionTypes = partitions.map((p) => p.type);
   const rows = partitions.map((p) => el("tr", {},
     el("td", { text: p.type }), el("td", { text: formatNumber(p.p) }),
     el("td", { text: formatNumber(p.b) }), el("td", { text: p.estimator || "chains" }),
@@ -59,20 +60,35 @@ function showPartitions(partitions) {
   document.querySelector("#partitions tbody").replaceChildren(...rows);
 }
 
-// The render's own error estimate (two interleaved halves), when it reports one.
+// The partitions' type strings (the latest partition table), to name their error curves.
+let partitionTypes = [];
+
+// The curve a progress value belongs to: "combined" for error_estimate, the partition's type
+// for partition_<g>_error_estimate (partitioned, guided), none for any other value.
+function errorCurveName(key) {
+  if (key === "error_estimate") return "combined";
+  const match = /^partition_(\d+)_error_estimate$/.exec(key);
+  if (!match) return null;
+  return partitionTypes[Number(match[1])] || `partition ${match[1]}`;
+}
+
+// The render's own error estimate (two halves of its samples or chains), when it reports one:
+// the combined image's and each partition's.
 function recordError(progress) {
   const values = progress.values || {};
   const t = Number(progress.elapsed_seconds || 0);
   for (const [key, value] of Object.entries(values)) {
-    if (!key.startsWith("error_estimate")) continue;
-    const name = key === "error_estimate" ? "combined" : key.slice("error_estimate/".length);
+    const name = errorCurveName(key);
+    if (name === null) continue;
     if (!errorSeries.has(name)) errorSeries.set(name, []);
     errorSeries.get(name).push([t, Number(value)]);
   }
   const drawn = drawPlot(document.getElementById("plot"), errorSeries);
   document.getElementById("plot").dataset.points = String(drawn);
+  document.getElementById("plot").dataset.curves =
+    String([...errorSeries.values()].filter((data) => data.some(([, v]) => v > 0)).length);
   document.getElementById("plot-note").textContent = drawn
-    ? "relative RMSE estimated from two interleaved halves of the render"
+    ? "relative RMSE estimated from two halves of the render (samples or chains)"
     : "no error estimate reported yet";
 }
 

@@ -1,0 +1,54 @@
+#include "mcmc/chain_error_monitor.h"
+
+#include <algorithm>
+
+#include "mcmc/chain_runner.h"
+#include "progress_reporter.h"
+
+namespace partita {
+
+ChainErrorMonitor::ChainErrorMonitor(const RenderSettings& settings, double targetError,
+                                     Estimator estimator)
+    : targetError_(targetError),
+      everyRound_(targetError > 0 && settings.budgetKind != BudgetKind::Seconds),
+      minMutations_(kMinMutationsPerPixel * double(settings.width) * double(settings.height)),
+      estimator_(std::move(estimator)) {}
+
+bool ChainErrorMonitor::due() const {
+    // Every round until the first estimate (the halves need mutations in both).
+    if (everyRound_ || !any_ || latest_.combined < 0) return true;
+    return secondsSince(last_) >= std::max(0.5, 20 * lastCost_);
+}
+
+void ChainErrorMonitor::estimateNow() {
+    auto begin = Clock::now();
+    latest_ = estimator_();
+    last_ = Clock::now();
+    lastCost_ = secondsSince(begin);
+    any_ = true;
+}
+
+void ChainErrorMonitor::afterRound(ChainRunner& runner, ProgressReporter& progress) {
+    if (due()) {
+        estimateNow();
+        reachedTarget_ = targetError_ > 0 && latest_.forTarget() >= 0 &&
+                         latest_.forTarget() <= targetError_ &&
+                         double(runner.mutationsDone()) >= minMutations_;
+        if (reachedTarget_) runner.requestStop();
+    }
+    // The runner replaces the phase's values every round: these go in again each time.
+    if (latest_.combined < 0) return;
+    std::map<std::string, double> values = latest_.parts;
+    values["error_estimate"] = latest_.combined;
+    progress.mergeValues(values);
+}
+
+void ChainErrorMonitor::addStats(RenderStats& st) const {
+    if (latest_.combined >= 0) {
+        st.values["error_estimate"] = latest_.combined;
+        for (const auto& [name, value] : latest_.parts) st.values[name] = value;
+    }
+    if (targetError_ > 0) st.values["reached_target_error"] = reachedTarget_ ? 1 : 0;
+}
+
+}  // namespace partita
