@@ -1,7 +1,9 @@
 #include "half_split_error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace partita {
 
@@ -35,22 +37,40 @@ ErrorSums imageErrorSums(const Image& image, double variance) {
     return out;
 }
 
-ErrorSums halvesError(const Image& a, const Image& b, double weightA, double weightB) {
-    if (a.rgb.size() != b.rgb.size())
-        throw std::invalid_argument("halvesError: the halves differ in size");
+namespace {
+
+/// The error sums of two halves given pixel-channel by pixel-channel: halfValue(i) returns
+/// half A's and half B's estimates of pixel-channel i (weights n_a, n_b > 0).
+template <class HalfValue>
+ErrorSums sumHalves(size_t count, double weightA, double weightB, const HalfValue& halfValue) {
     ErrorSums out;
-    if (!(weightA > 0) || !(weightB > 0)) return out;
     const double n = weightA + weightB;
     const double varianceFactor = weightA * weightB / (n * n);
-    for (size_t i = 0; i < a.rgb.size(); ++i) {
-        const double x = double(a.rgb[i]), y = double(b.rgb[i]);
+    for (size_t i = 0; i < count; ++i) {
+        const auto [x, y] = halfValue(i);
         const double mean = (weightA * x + weightB * y) / n;
         out.variance += (x - y) * (x - y) * varianceFactor;
         out.value += mean;
         out.squares += mean * mean;
     }
-    out.count = double(a.rgb.size());
+    out.count = double(count);
     return out;
+}
+
+}  // namespace
+
+double relativeVarianceOfMean(double sum, double sumSquares, double n) {
+    if (!(sum > 0) || !(n > 0)) return INFINITY;
+    return std::max(0.0, sumSquares / (sum * sum) - 1.0 / n);
+}
+
+ErrorSums halvesError(const Image& a, const Image& b, double weightA, double weightB) {
+    if (a.rgb.size() != b.rgb.size())
+        throw std::invalid_argument("halvesError: the halves differ in size");
+    if (!(weightA > 0) || !(weightB > 0)) return {};
+    return sumHalves(a.rgb.size(), weightA, weightB, [&](size_t i) {
+        return std::pair<double, double>(double(a.rgb[i]), double(b.rgb[i]));
+    });
 }
 
 void HalfSplitError::addRun(const Image& sums, uint64_t samples, bool toA) {
@@ -70,29 +90,12 @@ void HalfSplitError::addRun(const Image& sums, uint64_t samples, bool toA) {
 ErrorSums HalfSplitError::errorSums() const {
     if (!ready()) return {};
     const double nA = double(samplesA_), nB = double(samplesB_);
-    Image a(previous_.width, previous_.height), b(previous_.width, previous_.height);
-    for (size_t i = 0; i < previous_.rgb.size(); ++i) {
-        a.rgb[i] = float(double(halfA_.rgb[i]) / nA);
-        b.rgb[i] = float(double(previous_.rgb[i] - halfA_.rgb[i]) / nB);
-    }
-    return halvesError(a, b, nA, nB);
+    return sumHalves(previous_.rgb.size(), nA, nB, [&](size_t i) {
+        const double a = double(halfA_.rgb[i]), total = double(previous_.rgb[i]);
+        return std::pair<double, double>(a / nA, (total - a) / nB);
+    });
 }
 
-double HalfSplitError::relativeRmse() const {
-    if (!ready()) return 0;
-    const double nA = double(samplesA_), nB = double(samplesB_), n = nA + nB;
-    const double varianceFactor = nA * nB / (n * n);
-    double variance = 0, mean = 0;
-    for (size_t i = 0; i < previous_.rgb.size(); ++i) {
-        const double a = double(halfA_.rgb[i]), total = double(previous_.rgb[i]);
-        const double difference = a / nA - (total - a) / nB;
-        variance += difference * difference * varianceFactor;
-        mean += total / n;
-    }
-    if (!(mean > 0)) return 0;
-    // Both sums are over the same pixel-channels: the ratio of the means is the ratio of sums.
-    const double count = double(previous_.rgb.size());
-    return std::sqrt(variance / count) / (mean / count);
-}
+double HalfSplitError::relativeRmse() const { return errorSums().relativeRmse(); }
 
 }  // namespace partita

@@ -49,6 +49,10 @@ ErrorSums halvesError(const Image& a, const Image& b, double weightA, double wei
 /// The error sums of `image` whose pixel-channels' variances sum to `variance` (measured apart:
 /// a pilot's per-sample variance over the samples per pixel).
 ErrorSums imageErrorSums(const Image& image, double variance);
+/// The relative variance of a mean S1 / N of N samples whose values sum to S1 and whose squares
+/// sum to S2: Var / mean^2 = S2 / S1^2 - 1 / N (at least 0; infinite without a positive sum). A
+/// normalising constant's (b), for ErrorSums::addScaleVariance.
+double relativeVarianceOfMean(double sum, double sumSquares, double n);
 
 class HalfSplitError {
   public:

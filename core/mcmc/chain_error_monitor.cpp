@@ -16,7 +16,7 @@ ChainErrorMonitor::ChainErrorMonitor(const RenderSettings& settings, double targ
 
 bool ChainErrorMonitor::due() const {
     // Every round until the first estimate (the halves need mutations in both).
-    if (everyRound_ || !any_ || latest_.combined < 0) return true;
+    if (everyRound_ || latest_.combined < 0) return true;
     return secondsSince(last_) >= std::max(0.5, 20 * lastCost_);
 }
 
@@ -25,7 +25,6 @@ void ChainErrorMonitor::estimateNow() {
     latest_ = estimator_();
     last_ = Clock::now();
     lastCost_ = secondsSince(begin);
-    any_ = true;
 }
 
 void ChainErrorMonitor::afterRound(ChainRunner& runner, ProgressReporter& progress) {

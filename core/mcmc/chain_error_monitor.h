@@ -39,7 +39,8 @@ class ChainErrorMonitor {
     };
     using Estimator = std::function<Estimate()>;
 
-    /// `targetError` 0: never stop; `pixels`: the image's (the trust rule's mutations).
+    /// `targetError` 0: never stop; the settings give the budget's kind and the image's pixels
+    /// (the trust rule's mutations).
     ChainErrorMonitor(const RenderSettings& settings, double targetError, Estimator estimator);
 
     /// After a round of `runner`'s chains: estimate when due, publish, stop at the target.
@@ -63,7 +64,6 @@ class ChainErrorMonitor {
     bool reachedTarget_ = false;
     Clock::time_point last_{};
     double lastCost_ = 0;
-    bool any_ = false;
 };
 
 }  // namespace partita

@@ -255,14 +255,20 @@ ErrorSums ChainRunner::halvesError(uint32_t group) const {
     return {};
 }
 
-ErrorSums filmHalvesError(const Film& all, const Film& half, double b, int width, int height,
-                          uint64_t mutationsA, uint64_t mutationsB) {
-    if (mutationsA == 0 || mutationsB == 0) return {};
+std::pair<Image, Image> filmHalves(const Film& all, const Film& half, double b, int width,
+                                   int height, uint64_t mutationsA, uint64_t mutationsB) {
     const float scaleA = ChainRunner::filmScale(b, width, height, mutationsA);
     Image a = all.resolveCombined(scaleA);  // (A + B) scaled as A
     const Image halfAsA = half.resolveCombined(scaleA);
     for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] -= halfAsA.rgb[i];
-    const Image halfB = half.resolveCombined(ChainRunner::filmScale(b, width, height, mutationsB));
+    return {std::move(a),
+            half.resolveCombined(ChainRunner::filmScale(b, width, height, mutationsB))};
+}
+
+ErrorSums filmHalvesError(const Film& all, const Film& half, double b, int width, int height,
+                          uint64_t mutationsA, uint64_t mutationsB) {
+    if (mutationsA == 0 || mutationsB == 0) return {};
+    const auto [a, halfB] = filmHalves(all, half, b, width, height, mutationsA, mutationsB);
     return halvesError(a, halfB, double(mutationsA), double(mutationsB));
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "algorithm.h"
@@ -123,9 +124,13 @@ class ChainRunner {
     std::atomic<bool> stopRequested_{false};
 };
 
-/// The error sums of an image made of two halves' films: `all` holds both halves' splats,
-/// `half` half B's alone (combined sums), each half's image is its film scaled by
-/// b W H / its mutations (ChainRunner::filmScale), half A's made of all less half.
+/// The combined images of two halves of chains from their films: `all` holds both halves'
+/// splats, `half` half B's alone; each half's image is its film scaled by b W H / its mutations
+/// (ChainRunner::filmScale), half A's made of all less half. Both mutation counts must be > 0.
+std::pair<Image, Image> filmHalves(const Film& all, const Film& half, double b, int width,
+                                   int height, uint64_t mutationsA, uint64_t mutationsB);
+/// The error sums of the image of both halves (halvesError of filmHalves); zero sums when a
+/// half has no mutation.
 ErrorSums filmHalvesError(const Film& all, const Film& half, double b, int width, int height,
                           uint64_t mutationsA, uint64_t mutationsB);
 

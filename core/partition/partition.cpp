@@ -7,6 +7,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "half_split_error.h"
+
 namespace partita {
 
 bool Partition::holds(const PathType& t) const {
@@ -24,10 +26,9 @@ PartitionShape parsePartitionShape(const std::string& name) {
 namespace {
 
 /// The relative standard error of b = S1 / N from N samples whose values sum to S1 and whose
-/// squares sum to S2: sqrt(S2 / S1^2 - 1 / N) (the samples' variance over N, over b^2).
+/// squares sum to S2 (half_split_error.h).
 double relativeError(double s1, double s2, double n) {
-    if (!(s1 > 0)) return INFINITY;
-    return std::sqrt(std::max(0.0, s2 / (s1 * s1) - 1.0 / n));
+    return std::sqrt(relativeVarianceOfMean(s1, s2, n));
 }
 
 double valueOr0(const std::map<PathType, double>& m, const PathType& t) {

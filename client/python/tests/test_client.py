@@ -166,8 +166,8 @@ class ClientTest(unittest.TestCase):
         self.assertLess(stats["spp"], 65536)
 
     def test_target_error_stops_an_mlt_job_at_its_estimate(self):
-        # mlt estimates its own error (two halves of its chains, b's error, the direct light's
-        # pilot variance) and stops there: long before its 4096 mutations a pixel.
+        # mlt estimates its own error (two halves of its chains, b's error, two halves of its
+        # direct light) and stops there: long before its 4096 mutations a pixel.
         job = self.client.submit("cornell", algorithm="mlt", mpp=4096, width=16, height=12,
                                  seed=2, bootstrap=20000, target_error=0.3)
         events = list(self.client.watch(job))

@@ -12,6 +12,7 @@
 #include "image_metrics.h"
 #include "integrators/pt/pt_integrator.h"
 #include "light_emission.h"
+#include "mcmc/chain_runner.h"
 #include "path/connection.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
@@ -87,7 +88,7 @@ void DirectLightRenderer::renderPass(SampleRange range, ProgressReporter* progre
     const uint64_t most = maxPassSamples();
     for (uint64_t first = range.first; first < range.end; first += most)
         renderPassPart({first, std::min(range.end, first + most)}, progress);
-    if (range.count() == 0) return;
+    if (!keepHalves_ || range.count() == 0) return;
     halves_.addRun(film_.resolveCombined(1.0f), range.count(), nextHalfA_);
     nextHalfA_ = !nextHalfA_;
 }
@@ -205,20 +206,8 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
 double chainHalvesError(const Film& all, const Film& half, uint64_t mutationsA, uint64_t mutationsB,
                         double bValue, int width, int height) {
     if (mutationsA == 0 || mutationsB == 0) return 0;
-    const double pixels = double(width) * height;
-    const float scaleA = float(bValue * pixels / double(mutationsA));
-    const Image allA = all.resolveCombined(scaleA);  // (a + b) scaled as a
-    const Image halfA = half.resolveCombined(scaleA);
-    const Image halfB = half.resolveCombined(float(bValue * pixels / double(mutationsB)));
-    double sum = 0;
-    for (size_t i = 0; i + 2 < allA.rgb.size(); i += 3) {
-        const Rgb a(allA.rgb[i] - halfA.rgb[i], allA.rgb[i + 1] - halfA.rgb[i + 1],
-                    allA.rgb[i + 2] - halfA.rgb[i + 2]);
-        const Rgb b(halfB.rgb[i], halfB.rgb[i + 1], halfB.rgb[i + 2]);
-        const double d = double(luminance(a)) - double(luminance(b));
-        sum += d * d;
-    }
-    return sum / 4;
+    const auto [a, b] = filmHalves(all, half, bValue, width, height, mutationsA, mutationsB);
+    return luminanceSquaredDifference(a, b) / 4;
 }
 
 uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,

@@ -59,10 +59,12 @@ class DirectLightRenderer {
     void renderPass(SampleRange range, ProgressReporter* progress);
     const Film& film() const { return film_; }
     Film takeFilm() { return std::move(film_); }
-    /// The error estimate of its image (issue #26): its renderPass calls alternate between two
-    /// halves (the first call's samples half A, the next's half B, ...). Samples stratified
-    /// across the sample index make it an overestimate: each half is less stratified than the
-    /// whole.
+    /// The error estimate of its image (issue #26), kept from the next renderPass on once asked
+    /// (a resolve of the combined image after every pass, two images of 12 B a pixel): its
+    /// renderPass calls alternate between two halves (one call's samples half A, the next's
+    /// half B, ...). Samples stratified across the sample index make it an overestimate: each
+    /// half is less stratified than the whole.
+    void keepHalves() { keepHalves_ = true; }
     const HalfSplitError& halves() const { return halves_; }
     uint64_t rays() const { return rays_.load(); }
     /// Adds another renderer's film and rays (samples of other indices: the film sums exactly,
@@ -94,6 +96,7 @@ class DirectLightRenderer {
     uint64_t streams_;
     std::atomic<uint64_t> rays_{0};
     HalfSplitError halves_;
+    bool keepHalves_ = false;
     bool nextHalfA_ = true;
 };
 

@@ -93,7 +93,7 @@ double bRelativeVariance(const BootstrapResult& bootstrap, const PathRestriction
         s2 += sample * sample;
     }
     if (!(s1 > 0) || bootstrap.samples == 0) return 0;
-    return std::max(0.0, s2 / (s1 * s1) - 1.0 / double(bootstrap.samples));
+    return relativeVarianceOfMean(s1, s2, double(bootstrap.samples));
 }
 
 TypeLayers bootstrapTypeLayers(const RenderSettings& settings,
@@ -205,7 +205,7 @@ LayeredImage resolveChainHalves(const ChainHalves& chains, const RenderSettings&
 
 DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
                                       const ChainHalves& chains, double chainRays,
-                                      const DirectPilot* pilot) {
+                                      const DirectPilot* pilot, bool keepHalves) {
     auto begin = Clock::now();
     const RenderSettings& rs = ctx.settings;
     const double pilotSeconds = pilot ? pilot->seconds : 0;  // ran before
@@ -226,11 +226,13 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
                               std::max<uint64_t>(2, settings.directMaxSpp));
     }
     out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.all->layers());
-    // No progress reports: the render phase's last report stays the chains' (mutations). Two
-    // passes, the halves of its error estimate (the same film as one: every sample has its own
-    // stream and the sums are exact).
-    out.renderer->renderPass({0, spp / 2}, nullptr);
-    out.renderer->renderPass({spp / 2, spp}, nullptr);
+    // No progress reports: the render phase's last report stays the chains' (mutations). With
+    // the halves, two passes (the same film as one: every sample has its own stream and the
+    // sums are exact).
+    const uint64_t firstPass = keepHalves ? spp / 2 : spp;
+    if (keepHalves) out.renderer->keepHalves();
+    out.renderer->renderPass({0, firstPass}, nullptr);
+    out.renderer->renderPass({firstPass, spp}, nullptr);
     out.spp = spp;
     out.seconds = secondsSince(begin) + pilotSeconds;
     return out;
@@ -263,6 +265,26 @@ double sharedTargetValue(const ErrorSums& part, const ErrorSums& total) {
     return std::sqrt(2 * part.variance / part.count) / (total.value / total.count);
 }
 
+/// A mutation budget's direct light after its chains, with a target error E: its share of
+/// it, half of E^2 as the chains' (sharedTargetValue), from its own halves: more samples,
+/// doubling, until it is met or the direct light has `maxSpp`. `chains`: the chains' error.
+void renderDirectToTarget(const RenderContext& ctx, DirectLightRun& direct, const ErrorSums& chains,
+                          double targetError, uint64_t maxSpp) {
+    auto begin = Clock::now();
+    while (direct.spp < maxSpp) {
+        const ErrorSums own = direct.renderer->halves().errorSums();
+        ErrorSums total;
+        total.add(chains);
+        total.add(own);
+        if (sharedTargetValue(own, total) <= targetError) break;
+        ctx.throwIfCancelled();
+        const uint64_t next = std::min(maxSpp, 2 * direct.spp);
+        direct.renderer->renderPass({direct.spp, next}, nullptr);
+        direct.spp = next;
+    }
+    direct.seconds += secondsSince(begin);
+}
+
 /// Runs the chains for `seconds` (a time budget's stage) after `startupSeconds` of the job.
 void runChainsFor(const RenderContext& ctx, ChainRunner& runner, const ChainPlan& plan,
                   double startupSeconds, double seconds,
@@ -282,6 +304,7 @@ DirectLightRun fixedDirectLightFirst(const RenderContext& ctx, const MltSettings
     const RenderSettings& rs = ctx.settings;
     DirectLightRun out;
     out.renderer = std::make_unique<DirectLightRenderer>(ctx, layers);
+    out.renderer->keepHalves();  // the error estimate's
     const double limit = std::max(0.0, rs.budget - startupSeconds) * settings.directShare;
     ProgressReporter progress(ctx.observer, "render", "samples", 0);
     while (out.spp < settings.directSpp) {
@@ -399,24 +422,12 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             runChainsWithPreviews(ctx, runner, plan, startupSeconds, resolve, {}, afterRound);
             countHalves();
             direct = directLightAfterChains(ctx, settings_, halves, double(runner.rays()),
-                                            settings_.directSpp == 0 ? &pilot : nullptr);
+                                            settings_.directSpp == 0 ? &pilot : nullptr,
+                                            /*keepHalves=*/true);
             directRenderer = direct.renderer.get();
-            if (settings_.targetError > 0) {
-                // The direct light's share of the target: half its square, as the chains'.
-                auto begin = Clock::now();
-                const ErrorSums chains = chainsError();
-                while (direct.spp < settings_.directMaxSpp) {
-                    ErrorSums total;
-                    total.add(chains);
-                    total.add(directError());
-                    if (sharedTargetValue(directError(), total) <= settings_.targetError) break;
-                    ctx.throwIfCancelled();
-                    const uint64_t next = std::min(settings_.directMaxSpp, 2 * direct.spp);
-                    direct.renderer->renderPass({direct.spp, next}, nullptr);
-                    direct.spp = next;
-                }
-                direct.seconds += secondsSince(begin);
-            }
+            if (settings_.targetError > 0)
+                renderDirectToTarget(ctx, direct, chainsError(), settings_.targetError,
+                                     settings_.directMaxSpp);
             startupSeconds = bootstrapSeconds + direct.seconds;
         } else {
             // A time budget: the chains' first stage measures their error and cost in seconds,
@@ -430,6 +441,7 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             const double chainSeconds = secondsSince(chainsStart);
             countHalves();
             direct.renderer = std::make_unique<DirectLightRenderer>(ctx, plan.layers);
+            direct.renderer->keepHalves();
             direct.variance = pilot.variance;
             direct.pilotRays = pilot.rays;
             direct.chainError =

@@ -109,10 +109,11 @@ struct DirectLightRun {
 /// job's resolve alike (the same film and samples per pixel: bit-identical): settings.directSpp
 /// samples per pixel, or with 0 as many as neymanDirectSpp gives from the pilot's variance and
 /// rays (`pilot` when it already ran, else run here), the chains' error (chainHalvesError) and
-/// `chainRays`.
+/// `chainRays`. With `keepHalves` the renderer keeps its error estimate's halves
+/// (DirectLightRenderer::keepHalves: the samples in two passes, the same film).
 DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
                                       const ChainHalves& chains, double chainRays,
-                                      const DirectPilot* pilot);
+                                      const DirectPilot* pilot, bool keepHalves = false);
 
 /// The statistics of the direct light: the label "direct" (per-pixel or chains), direct_spp,
 /// and when apart b_direct, direct_rays, direct_share (of the rays after the bootstrap), and

@@ -24,8 +24,8 @@ const SettingsTable<MltSettings>& mltParameters() {
                   .withUnit("samples")
                   .within(0, 1 << 20),
               &MltSettings::directSpp);
-        t.add(targetErrorParameter("two halves of the chains, b's error and the direct "
-                                   "light's variance"),
+        t.add(targetErrorParameter("two halves of the chains, b's error and two halves of the "
+                                   "direct light"),
               &MltSettings::targetError);
         addMutationParameters(t);
         return t;

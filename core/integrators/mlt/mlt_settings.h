@@ -45,8 +45,8 @@ struct MltSettings {
     double firstChainShare = 0.25;  // auto with a time budget: the chains' measuring stage
     /// Stop once the render's own estimate of the combined image's relative RMSE is at or
     /// below this (mcmc/chain_error_monitor.h: two halves of the chains, b's error, the direct
-    /// light's pilot variance); 0: never. Needs the pilot: refused with a fixed direct_spp.
-    /// Parameter "target_error".
+    /// light's own halves); 0: never. With a mutation budget the chains and the direct light
+    /// after them each get half of its square. Parameter "target_error".
     double targetError = 0;
     VeachMutationSettings mutations;
 };

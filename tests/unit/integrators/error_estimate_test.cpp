@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <sstream>
 
-#include "camera.h"
 #include "gltf/gltf_loader.h"
 #include "half_split_error.h"
 #include "image_metrics.h"
@@ -22,7 +22,6 @@
 #include "render_helpers.h"
 #include "renderer.h"
 #include "shard/shardable.h"
-#include "thread_pool.h"
 
 namespace partita {
 namespace {
@@ -151,7 +150,8 @@ INSTANTIATE_TEST_SUITE_P(SamplePasses, ErrorEstimate, ::testing::Values("pt", "b
 // spread over seeds. mlt with the direct light per pixel: its direct samples are stratified
 // over the pixel across the sample index, so each half of them is less stratified than the
 // whole and the estimate is conservative: not below the measured error, and not more than
-// twice it (in squared error, the mean over seeds of estimate^2 over measured: 1.25 here;
+// twice it (both within the spread over seeds; in squared error, the mean over seeds of
+// estimate^2 over measured is 1.25 here;
 // with the direct light in the chains 1.31 and for partitioned 1.28, within the spread).
 struct McmcCase {
     const char* algorithm;
@@ -166,7 +166,7 @@ TEST_P(McmcErrorEstimate, AgreesWithTheErrorAgainstALongReference) {
     RenderScene scene = cornell();
     RenderResult reference = renderWith(scene, "bdpt", tinySettings(2048, 99));
     const double referenceError = reference.stats.values.at("error_estimate");
-    std::vector<double> differences;
+    std::vector<double> differences, overTwice;
     double estimates = 0, measures = 0;
     for (uint64_t seed = 1; seed <= 10; ++seed) {
         RenderSettings st = tinySettings(32, seed);
@@ -181,6 +181,7 @@ TEST_P(McmcErrorEstimate, AgreesWithTheErrorAgainstALongReference) {
         const double measured = relativeSquaredError(r.image.combined, reference.image.combined) -
                                 referenceError * referenceError * referenceShare * referenceShare;
         differences.push_back(estimate * estimate - measured);
+        overTwice.push_back(estimate * estimate - 2 * measured);
         estimates += estimate * estimate;
         measures += measured;
     }
@@ -196,8 +197,11 @@ TEST_P(McmcErrorEstimate, AgreesWithTheErrorAgainstALongReference) {
         EXPECT_NEAR(m.mean, 0.0, tolerance) << what.str();
         return;
     }
-    EXPECT_GE(m.mean, -tolerance) << what.str();
-    EXPECT_LE(estimates, 2 * measures) << what.str();
+    // Two one-sided checks: each at the Sidak level of two comparisons.
+    EXPECT_GE(m.mean, -test::statisticalTolerance(m, 0.0, 2)) << what.str();
+    const auto over = meanAndError(overTwice);
+    EXPECT_LE(over.mean, test::statisticalTolerance(over, 0.0, 2))
+        << "estimate^2 - 2 measured^2, mean over seeds " << over.mean << "; " << what.str();
 }
 
 INSTANTIATE_TEST_SUITE_P(Chains, McmcErrorEstimate,
@@ -232,12 +236,8 @@ TEST(TargetError, ShardedMcmcJobsRefuseIt) {
         registerBuiltinAlgorithms();
         auto algo = AlgorithmRegistry::instance().find(algorithm)->factory(st.parameters);
         ASSERT_NE(algo->shardable(), nullptr);
-        Camera camera(resolveCamera(scene.data(), ""), st.width, st.height);
-        ThreadPool pool(1);
-        std::atomic<bool> cancel{false};
-        RenderObserver observer;
-        RenderContext ctx{scene, camera, st, pool, cancel, observer};
-        EXPECT_THROW(algo->shardable()->plan(ctx), std::invalid_argument) << algorithm;
+        test::TestRenderContext render(scene, st, 1);
+        EXPECT_THROW(algo->shardable()->plan(render.ctx), std::invalid_argument) << algorithm;
     }
 }
 
