@@ -4,8 +4,9 @@ partition tile change and the convergence plot draw the combined and the partiti
 curves, download the EXR, which must equal what `partita get` fetches over gRPC;
 see a `pt` job's convergence plot gain points, and cancel it. Screenshots go to $PARTITA_ARTIFACTS/dashboard/.
 
-Where Chromium, chromedriver or Selenium is missing, the whole class is skipped saying which
-(ctest shows it as skipped, never as passed)."""
+Chromium and chromedriver are started by the test and addressed by IP (a fresh minimal root has
+no /etc/hosts: "localhost" does not resolve there). Where Chromium, chromedriver or Selenium is
+missing, the whole class is skipped saying which (ctest shows it as skipped, never as passed)."""
 from __future__ import annotations
 
 import os
@@ -34,26 +35,66 @@ def browser_missing() -> str:
     return ""
 
 
-def start_chromedriver():
-    """chromedriver on a free loopback port, addressed by IP: Selenium's own Service polls
-    "localhost", which a machine without /etc/hosts (a fresh minimal root) cannot resolve.
-    Returns the process and the address to drive it at."""
+# A fresh minimal root has no /etc/hosts, so "localhost" does not resolve there: chromedriver
+# and Chromium are started here and addressed by IP, never by that name (Selenium's own Service
+# polls "localhost", and chromedriver reaches a Chromium it starts itself at "localhost").
+
+
+def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+        return probe.getsockname()[1]
+
+
+def wait_until(ready, process, what, timeout=30):
+    """ready() until it returns a value, while `process` runs; RuntimeError naming `what`."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = ready()
+        if value:
+            return value
+        if process.poll() is not None:
+            break
+        time.sleep(0.1)
+    process.kill()
+    raise RuntimeError(f"{what} (exit {process.poll()})")
+
+
+def listening(port):
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=1).close()
+        return True
+    except OSError:
+        return False
+
+
+def start_chromedriver():
+    """chromedriver on a free loopback port: the process and the address to drive it at."""
+    port = free_port()
     process = subprocess.Popen([CHROMEDRIVER, f"--port={port}", "--allowed-ips=127.0.0.1"],
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 30
-    while time.monotonic() < deadline:
+    wait_until(lambda: listening(port), process, f"chromedriver did not listen on port {port}")
+    return process, f"http://127.0.0.1:{port}"
+
+
+def start_chromium(profile):
+    """Headless Chromium with its DevTools on 127.0.0.1 (a port it picks and writes to
+    DevToolsActivePort in its profile): the process and the DevTools address."""
+    process = subprocess.Popen(
+        [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+         "--window-size=1400,1100", "--remote-debugging-address=127.0.0.1",
+         "--remote-debugging-port=0", "--user-data-dir=" + profile, "about:blank"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    active = Path(profile) / "DevToolsActivePort"
+
+    def port():
         try:
-            socket.create_connection(("127.0.0.1", port), timeout=1).close()
-            return process, f"http://127.0.0.1:{port}"
-        except OSError:
-            if process.poll() is not None:
-                break
-            time.sleep(0.1)
-    process.kill()
-    raise RuntimeError(f"chromedriver did not listen on 127.0.0.1:{port} (exit {process.poll()})")
+            first = active.read_text().splitlines()[0]
+            return int(first) if first.strip() and listening(int(first)) else 0
+        except (OSError, IndexError, ValueError):
+            return 0
+
+    return process, f"127.0.0.1:{wait_until(port, process, 'Chromium opened no DevTools port')}"
 
 
 def wait_for(condition, timeout, what):
@@ -75,33 +116,38 @@ class DashboardBrowserTest(unittest.TestCase):
         from selenium import webdriver
 
         cls.server = DashboardDaemon()
-        options = webdriver.ChromeOptions()
-        options.binary_location = CHROMIUM
-        for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
-                         "--disable-dev-shm-usage", "--window-size=1400,1100"):
-            options.add_argument(argument)
         cls.profile = tempfile.mkdtemp(prefix="partita-chromium-")
-        options.add_argument("--user-data-dir=" + cls.profile)
+        cls.processes = []
         try:
+            cls.chromium, devtools = start_chromium(cls.profile)
+            cls.processes.append(cls.chromium)
             cls.chromedriver, address = start_chromedriver()
-        except Exception:
-            cls.server.stop()
-            raise
-        try:
+            cls.processes.append(cls.chromedriver)
+            # chromedriver attaches to the running Chromium at its DevTools address.
+            options = webdriver.ChromeOptions()
+            options.binary_location = CHROMIUM
+            options.add_experimental_option("debuggerAddress", devtools)
             cls.driver = webdriver.Remote(command_executor=address, options=options)
         except Exception:
-            cls.chromedriver.kill()
-            cls.server.stop()
+            cls.stop_processes()
             raise
         cls.driver.set_page_load_timeout(30)
 
     @classmethod
-    def tearDownClass(cls):
-        cls.driver.quit()
-        cls.chromedriver.terminate()
-        cls.chromedriver.wait(timeout=10)
+    def stop_processes(cls):
+        for process in reversed(cls.processes):
+            process.terminate()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
         cls.server.stop()
         shutil.rmtree(cls.profile, ignore_errors=True)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.driver.quit()  # attached: this ends the session, not Chromium
+        cls.stop_processes()
 
     def find(self, css):
         from selenium.webdriver.common.by import By
