@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -55,6 +56,21 @@ class Statement {
     sqlite3* db_;
     sqlite3_stmt* stmt_ = nullptr;
 };
+
+}  // namespace
+
+bool isJobId(std::string_view id) {
+    return id.size() == 12 && std::all_of(id.begin(), id.end(), [](char c) {
+               return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+           });
+}
+
+fs::path JobStore::jobDir(const std::string& id) const {
+    if (!isJobId(id)) throw std::invalid_argument("job store: '" + id + "' is not a job id");
+    return dir_ / "jobs" / id;
+}
+
+namespace {
 
 void bindJob(Statement& s, const StoredJob& j) {
     s.bindText(1, j.id);
@@ -198,6 +214,12 @@ std::vector<StoredJob> JobStore::loadAll() {
     while (s.step()) {
         StoredJob j;
         j.id = s.blob(0);
+        if (!isJobId(j.id)) {
+            spdlog::error(
+                "job store: skipping a row of jobs.db whose id is not a job id ({} bytes)",
+                j.id.size());
+            continue;
+        }
         j.sequence = s.integer(1);
         j.state = int(s.integer(2));
         j.priority = int(s.integer(3));
@@ -232,6 +254,7 @@ void JobStore::writeTransition(const StoredJob& j, const std::string& note) {
 }
 
 void JobStore::insert(const StoredJob& j, const std::string& note) {
+    if (!isJobId(j.id)) throw std::invalid_argument("job store: '" + j.id + "' is not a job id");
     std::lock_guard lock(mutex_);
     exec("BEGIN IMMEDIATE");
     try {

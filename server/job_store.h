@@ -20,6 +20,11 @@
 
 namespace partita::server {
 
+/// Whether `id` has the form partitad gives job ids (12 lowercase hex digits): the only names
+/// a job's folder may have. A row read back with any other id (a damaged or forged jobs.db:
+/// "..", "../x") is skipped, so that no path is ever formed from it.
+bool isJobId(std::string_view id);
+
 struct StoredJob {
     std::string id;
     int64_t sequence = 0;
@@ -43,8 +48,10 @@ class JobStore {
     JobStore& operator=(const JobStore&) = delete;
 
     const std::filesystem::path& dir() const { return dir_; }
-    std::filesystem::path jobDir(const std::string& id) const { return dir_ / "jobs" / id; }
+    /// The job's folder. std::invalid_argument when `id` is not a job id (isJobId).
+    std::filesystem::path jobDir(const std::string& id) const;
 
+    /// Every job row, in submission order; rows whose id is not a job id are skipped (logged).
     std::vector<StoredJob> loadAll();
     /// The next submission sequence number (one more than any stored).
     int64_t nextSequence();

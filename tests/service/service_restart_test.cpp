@@ -215,6 +215,71 @@ db.close()
     EXPECT_EQ(again.log().find("schema upgraded"), std::string::npos) << again.log();
 }
 
+/// A jobs.db row whose id is not a job id (a damaged or forged store: "..", "../../victim")
+/// never names a path: the daemon skips the row with a log line, so deleting or fetching by
+/// such an id is NOT_FOUND and neither the store itself nor a folder beside it is removed.
+TEST(ServiceRestart, AStoredRowWhoseIdIsAPathIsSkippedAndNothingOutsideItsFolderIsTouched) {
+    const char* python = "/usr/bin/python3";
+    if (!fs::exists(python)) GTEST_SKIP() << "needs " << python << " (sqlite3 module)";
+    TempDir root;
+    const fs::path store = root.path() / "store", victim = root.path() / "victim" / "keep.txt";
+    fs::create_directories(victim.parent_path());
+    writeFile(victim, "not the store's");
+    std::string id;
+    {
+        Daemon first(store);
+        ASSERT_TRUE(first.running()) << first.log();
+        auto stub = first.stub();
+        Submitted job = submit(*stub, sceneSpec("cornell", 16, 12, 1, 1));
+        ASSERT_TRUE(job.status.ok());
+        id = job.id;
+        ASSERT_EQ(waitForEnd(*stub, id).state(), pb::JOB_STATE_DONE);
+        ASSERT_EQ(first.stop(SIGTERM), 0) << first.log();
+    }
+    // Copies of the finished job's row under ids that are paths.
+    std::ostringstream script;
+    script << "import sqlite3\n"
+           << "db = sqlite3.connect(r'''" << (store / "jobs.db").string() << "''')\n"
+           << "for n, bad in enumerate(['..', '../../victim']):\n"
+           << "    db.execute('INSERT INTO jobs(id, seq, state, priority, label, spec, error, "
+              "created_ms, started_ms, finished_ms, stats, note) SELECT ?, seq + 1 + ?, state, "
+              "priority, label, spec, error, created_ms, started_ms, finished_ms, stats, note "
+              "FROM jobs WHERE id = ?', (bad, n, '"
+           << id << "'))\n"
+           << "db.commit()\n";
+    writeFile(root.path() / "forge.py", script.str());
+    const std::string command =
+        std::string(python) + " '" + (root.path() / "forge.py").string() + "'";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+
+    Daemon second(store);
+    ASSERT_TRUE(second.running()) << second.log();
+    auto stub = second.stub();
+    pb::ListJobsResponse listed;
+    {
+        auto ctx = context();
+        ASSERT_TRUE(stub->ListJobs(ctx.get(), pb::ListJobsRequest(), &listed).ok());
+    }
+    EXPECT_EQ(listed.jobs_size(), 1);
+    EXPECT_EQ(listed.jobs(listed.jobs_size() - 1).id(), id);
+    for (const std::string bad : {"..", "../../victim"}) {
+        pb::DeleteJobRequest del;
+        del.set_job_id(bad);
+        pb::DeleteJobResponse deleted;
+        auto ctx = context();
+        EXPECT_EQ(stub->DeleteJob(ctx.get(), del, &deleted).error_code(),
+                  grpc::StatusCode::NOT_FOUND)
+            << bad;
+        EXPECT_EQ(fetch(*stub, bad, pb::RESULT_KIND_EXR).status.error_code(),
+                  grpc::StatusCode::NOT_FOUND)
+            << bad;
+    }
+    EXPECT_TRUE(fs::exists(victim));
+    EXPECT_TRUE(fs::exists(store / "jobs.db"));
+    EXPECT_EQ(fetch(*stub, id, pb::RESULT_KIND_EXR).status.error_code(), grpc::StatusCode::OK);
+    EXPECT_NE(second.log().find("whose id is not a job id"), std::string::npos) << second.log();
+}
+
 TEST(ServiceRestart, SigintAlsoStopsCleanlyAndRemovesThePortFile) {
     TempDir store;
     Daemon daemon(store.path());
