@@ -51,19 +51,21 @@ ASAN_SERVICE_SLOW := PeakRss|ServiceMlt.JobHasBootstrap|ServiceParameters|Servic
 # ASan + UBSan: the unit and service tests.
 test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) $(ASAN_CMAKE) >/dev/null
-	@cmake --build $(ASAN_BUILD) -j$(JOBS) --target partita-tests partita-service-tests
+	@cmake --build $(ASAN_BUILD) -j$(JOBS) --target partita-tests partita-server-tests partita-service-tests
 	@scripts/sanitized-ctest.sh $(ASAN_BUILD) -j$(JOBS) --timeout 900 -LE client \
 	  -E '$(SAN_SLOW)|$(ASAN_SERVICE_SLOW)'
 # TSan: the tests whose work runs on several threads in the core: the thread pool, every
 # algorithm's chains or tiles on a pool (EveryAlgorithm), sharded renders and thread counts,
-# progress, films splatted from several threads. (TSan is 5-15x slower: the rest of the suite
-# runs under ASan.) Not the service tests: Debian's gRPC, abseil and protobuf are not
-# instrumented, and their hand-offs showed as thousands of races in grpcpp's inlined callback
-# code; a suppression of libgrpc would hide every race in our callbacks as well.
-TSAN_UNIT := ^ThreadPool\.|EveryAlgorithm|ShardedRender|ThreadCount|ProgressReporter|^Film\.
+# progress, films splatted from several threads; and the job system in one process (client
+# threads submitting, watching, cancelling and deleting while the runners render:
+# tests/server). (TSan is 5-15x slower: the rest of the suite runs under ASan.) Not the service
+# tests: Debian's gRPC, abseil and protobuf are not instrumented, and their hand-offs showed as
+# thousands of races in grpcpp's inlined callback code; a suppression of libgrpc would hide
+# every race in our callbacks as well.
+TSAN_UNIT := ^ThreadPool\.|EveryAlgorithm|ShardedRender|ThreadCount|ProgressReporter|^Film\.|^JobManagerThreads\.
 test-tsan: deps
 	@cmake -S . -B $(TSAN_BUILD) $(SAN_RELEASE) -DPARTITA_TSAN=ON >/dev/null
-	@cmake --build $(TSAN_BUILD) -j$(JOBS) --target partita-tests
+	@cmake --build $(TSAN_BUILD) -j$(JOBS) --target partita-tests partita-server-tests
 	@scripts/sanitized-ctest.sh $(TSAN_BUILD) -j$(JOBS) --timeout 900 -LE client \
 	  -R '$(TSAN_UNIT)' -E '$(SAN_SLOW)'
 

@@ -15,7 +15,7 @@ namespace partita {
 
 IndependenceMutation::IndependenceMutation(const RenderScene& scene, const Camera& camera,
                                            int maxDepth, std::vector<int> vertexCounts)
-    : scene_(scene), camera_(camera), maxDepth_(maxDepth) {
+    : scene_(scene), camera_(camera) {
     if (vertexCounts.empty())
         for (int n = 2; n <= maxDepth + 2; ++n) vertexCounts.push_back(n);
     std::sort(vertexCounts.begin(), vertexCounts.end());

@@ -66,7 +66,6 @@ class IndependenceMutation : public Mutation {
 
     const RenderScene& scene_;
     const Camera& camera_;
-    int maxDepth_;
     std::vector<int> vertexCounts_;  // sorted, within [2, maxDepth + 2]
 };
 

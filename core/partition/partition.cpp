@@ -171,12 +171,13 @@ std::vector<Partition> makePartitions(const PrepassResult& prepass, int k, doubl
     // The complement's b: half B's paths of every type no partition took, those absent from
     // half A too (summed type by type: exactly 0 when every type has a partition).
     double restB = 0, restSquares = 0;
-    for (const auto& [type, c] : prepass.sumB)
-        if (std::none_of(out.begin(), out.end(),
-                         [&](const Partition& p) { return p.holds(type); })) {
+    for (const auto& [type, c] : prepass.sumB) {
+        const PathType& t = type;  // clang 14 cannot capture a structured binding
+        if (std::none_of(out.begin(), out.end(), [&](const Partition& p) { return p.holds(t); })) {
             restB += c;
             restSquares += valueOr0(prepass.sumSquaresB, type);
         }
+    }
     complement.b = restB / nB;
     complement.bError = relativeError(restB, restSquares, nB);
     // Types seen only in half B still need mutations: rank the complement by its half-B sum.
