@@ -38,25 +38,33 @@ std::vector<uint8_t> readFileBytes(const fs::path& path) {
 }
 
 void writeFileAtomic(const fs::path& path, std::span<const uint8_t> bytes) {
+    writeFileAtomic(path, [&](int fd) {
+        const uint8_t* p = bytes.data();
+        size_t left = bytes.size();
+        while (left > 0) {
+            ssize_t n = ::write(fd, p, left);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) return false;
+            p += n;
+            left -= size_t(n);
+        }
+        return true;
+    });
+}
+
+void writeFileAtomic(const fs::path& path, const std::function<bool(int fd)>& write) {
     static std::atomic<uint64_t> counter{0};
     fs::path tmp = path;
     tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
     int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)
         throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
-    const uint8_t* p = bytes.data();
-    size_t left = bytes.size();
-    while (left > 0) {
-        ssize_t n = ::write(fd, p, left);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            int err = errno;
-            ::close(fd);
-            ::unlink(tmp.c_str());
-            throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(err));
-        }
-        p += n;
-        left -= size_t(n);
+    errno = 0;
+    if (!write(fd)) {
+        int err = errno ? errno : EIO;
+        ::close(fd);
+        ::unlink(tmp.c_str());
+        throw std::runtime_error("cannot write '" + path.string() + "': " + std::strerror(err));
     }
     if (::fsync(fd) != 0 || ::close(fd) != 0) {
         int err = errno;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -20,5 +21,9 @@ void requireOutputFolder(const std::filesystem::path& file);
 
 /// Writes `bytes` to `path` atomically (above); std::runtime_error("cannot write ...").
 void writeFileAtomic(const std::filesystem::path& path, std::span<const uint8_t> bytes);
+
+/// The same, for contents written straight to the file by `write` (given the open descriptor;
+/// false on failure, errno set): no copy of them in memory first (a serialised upload).
+void writeFileAtomic(const std::filesystem::path& path, const std::function<bool(int fd)>& write);
 
 }  // namespace partita

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "file_io.h"
 #include "job_runner.h"
 #include "parameter_wire.h"
 #include "store_usage.h"
@@ -187,8 +188,10 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
         if (!spec.scene().has_scene_name()) {
             // The upload is kept with the job so that it can run (again) after a restart.
             fs::create_directories(store_.jobDir(id));
-            JobStore::writeFileAtomic(store_.jobDir(id) / kUploadFile,
-                                      spec.scene().SerializeAsString());
+            // Serialised straight into the file: no second copy of the upload in memory.
+            partita::writeFileAtomic(store_.jobDir(id) / kUploadFile, [&](int fd) {
+                return spec.scene().SerializeToFileDescriptor(fd);
+            });
         }
         int64_t sequence = store_.nextSequence();
         store_.insert(toStored(record, sequence), "submitted");
