@@ -46,8 +46,9 @@ ASAN_CMAKE := $(SAN_RELEASE) -DPARTITA_SANITIZE=ON -DPARTITA_BUILD_FUZZ=ON
 SAN_SLOW := Converge|AgreesWith|Chi2|ShowsAsBias|EstimatesTheIntegral|LocalCli|TimeBudget|WithinASecond|_NOT_BUILT
 # Left out under ASan: the service tests whose renders outlast their gRPC deadlines 10-20x
 # slower (ServiceMlt's 2048 mutations a pixel, every algorithm of ServiceParameters, the Slurm
-# cluster's shards), and PeakRss (ASan's quarantine holds freed memory, by design).
-ASAN_SERVICE_SLOW := PeakRss|ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
+# cluster's shards), and the tests that compare the daemon's peak memory with its estimate
+# (PeakRss, WithinItsEstimate: ASan's shadow memory and quarantine add to the peak, by design).
+ASAN_SERVICE_SLOW := PeakRss|WithinItsEstimate|ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
 # ASan + UBSan: the unit and service tests.
 test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) $(ASAN_CMAKE) >/dev/null
