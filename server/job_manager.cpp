@@ -99,6 +99,7 @@ void JobManager::shutdown() {
     store_.checkpoint();
 }
 
+// The form JobStore accepts (isJobId): 12 lowercase hex digits.
 std::string JobManager::newId() const {
     static std::mt19937_64 rng(std::random_device{}());
     for (;;) {
