@@ -6,8 +6,6 @@
 // TSan here: Debian's gRPC is not instrumented, see the Makefile).
 #include <gtest/gtest.h>
 
-#include <stdlib.h>
-
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -22,30 +20,13 @@
 #include "job_store.h"
 #include "scene_source.h"
 #include "service_limits.h"
+#include "temp_dir.h"
 
 namespace partita::server {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-/// A temporary folder, removed with everything in it.
-class TempDir {
-  public:
-    TempDir() {
-        std::string name = (fs::temp_directory_path() / "partita-jobs-XXXXXX").string();
-        if (!mkdtemp(name.data())) throw std::runtime_error("mkdtemp failed");
-        path_ = name;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
 
 /// Records what a watch receives; called with the job's lock held, as the service's are.
 class RecordingWatcher : public JobWatcher {
@@ -151,7 +132,7 @@ std::vector<ClientJob> runClient(JobApi& api, int client, int jobs) {
 }
 
 TEST(JobManagerThreads, ClientsSubmitWatchCancelAndDeleteWhileRunnersRender) {
-    TempDir dir;
+    test::TempDir dir;
     JobStore store(dir.path() / "store");
     SceneSource scenes(PARTITA_SCENES_DIR);
     ServiceLimits limits;

@@ -20,20 +20,6 @@ namespace partita::test {
 
 using namespace std::chrono_literals;
 
-TempDir::TempDir() {
-    std::random_device rd;
-    for (;;) {
-        path_ = fs::temp_directory_path() / ("partita-service-" + std::to_string(::getpid()) + "-" +
-                                             std::to_string(rd() & 0xffffff));
-        if (fs::create_directory(path_)) break;
-    }
-}
-
-TempDir::~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-}
-
 std::string readFile(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream s;

@@ -21,24 +21,12 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.h"
+
 namespace partita::test {
 
 namespace pb = ::partita::v1;
 namespace fs = std::filesystem;
-
-/// A fresh folder under the system temp folder, removed with everything in it.
-class TempDir {
-  public:
-    TempDir();
-    ~TempDir();
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-    fs::path operator/(const std::string& name) const { return path_ / name; }
-
-  private:
-    fs::path path_;
-};
 
 /// partitad as a child process on 127.0.0.1 with port 0 and --port-file.
 class Daemon {
