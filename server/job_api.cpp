@@ -40,6 +40,9 @@ void fillLimits(const ServiceLimits& limits, pb::Limits& l) {
     l.set_max_store_bytes(limits.maxStoreBytes);
     l.set_max_bootstrap_samples(limits.maxBootstrapSamples);
     l.set_max_raw_preview_bytes(limits.maxRawPreviewBytes);
+    l.set_max_message_bytes(limits.maxMessageBytes);
+    l.set_max_upload_streams(limits.maxUploadStreams);
+    l.set_upload_ttl_seconds(limits.uploadTtlSeconds);
 }
 
 }  // namespace
@@ -49,6 +52,7 @@ grpc::Status unknownJob(const std::string& id) {
 }
 
 grpc::Status JobApi::submit(const pb::JobSpec& spec, pb::Job& out) {
+    if (spec.scene().has_upload_id()) return submitStaged(spec, out);
     ValidatedSpec validated;
     if (grpc::Status s = validateJobSpec(spec, limits_, validated); !s.ok()) return s;
     if (spec.scene().has_scene_name()) {
@@ -59,6 +63,28 @@ grpc::Status JobApi::submit(const pb::JobSpec& spec, pb::Job& out) {
     if (grpc::Status s = checkEnvironmentImage(spec, scenes_, limits_, validated); !s.ok())
         return s;
     return jobs_.submit(spec, validated, out);
+}
+
+grpc::Status JobApi::submitStaged(const pb::JobSpec& spec, pb::Job& out) {
+    if (!uploads_)
+        return {grpc::StatusCode::INVALID_ARGUMENT,
+                "this interface takes no upload ids: send the scene with the job"};
+    std::shared_ptr<StagedUpload> staged;
+    if (grpc::Status s = uploads_->find(spec.scene().upload_id(), staged); !s.ok()) return s;
+    pb::JobSpec shaped = spec;
+    *shaped.mutable_scene() = staged->shape();
+    ValidatedSpec validated;
+    if (grpc::Status s = settingsFromSpec(shaped, limits_, validated); !s.ok()) return s;
+    auto read = [&](const std::string& uri) { return staged->readResource(uri); };
+    if (grpc::Status s = checkEnvironmentImage(read, validated); !s.ok()) return s;
+    return jobs_.submit(shaped, validated, out, staged.get());
+}
+
+grpc::Status JobApi::beginUpload(const pb::UploadHeader& header,
+                                 std::unique_ptr<UploadWriter>& out) {
+    if (!uploads_)
+        return {grpc::StatusCode::UNIMPLEMENTED, "this interface takes no streamed uploads"};
+    return uploads_->begin(header, out);
 }
 
 grpc::Status JobApi::get(const std::string& id, pb::Job& out) const {

@@ -15,16 +15,21 @@
 #include "proto.h"
 #include "scene_source.h"
 #include "service_limits.h"
+#include "upload_staging.h"
 
 namespace partita::server {
 
 class JobApi {
   public:
-    JobApi(JobManager& jobs, const SceneSource& scenes, const ServiceLimits& limits)
-        : jobs_(jobs), scenes_(scenes), limits_(limits) {}
+    /// `uploads` may be null: then a job cannot name a staged upload (scene.upload_id).
+    JobApi(JobManager& jobs, const SceneSource& scenes, const ServiceLimits& limits,
+           UploadStaging* uploads = nullptr)
+        : jobs_(jobs), scenes_(scenes), limits_(limits), uploads_(uploads) {}
 
     /// Validates the spec (fields, parameters, scene, environment image) and queues the job.
     grpc::Status submit(const pb::JobSpec& spec, pb::Job& out);
+    /// Admits an upload (UploadScene's first message): see UploadStaging::begin.
+    grpc::Status beginUpload(const pb::UploadHeader& header, std::unique_ptr<UploadWriter>& out);
     /// NOT_FOUND naming the id when there is no such job.
     grpc::Status get(const std::string& id, pb::Job& out) const;
     std::shared_ptr<Job> find(const std::string& id) const { return jobs_.find(id); }
@@ -46,9 +51,14 @@ class JobApi {
     const ServiceLimits& limits() const { return limits_; }
 
   private:
+    /// submit() of a job whose scene is a staged upload: the job's record names the upload's
+    /// files (as an inline upload's would) and its folder gets a hard link to them.
+    grpc::Status submitStaged(const pb::JobSpec& spec, pb::Job& out);
+
     JobManager& jobs_;
     const SceneSource& scenes_;
     const ServiceLimits& limits_;
+    UploadStaging* uploads_;
 };
 
 /// NOT_FOUND: "no job '<id>'" (the id quoted safely).

@@ -99,6 +99,19 @@ void JobManager::shutdown() {
     store_.checkpoint();
 }
 
+namespace {
+
+/// A job's own name for a staged upload's file: a hard link (the store holds the bytes once),
+/// or a copy where the file system has no hard links.
+void linkStagedUpload(const StagedUpload& staged, const fs::path& to) {
+    std::error_code ec;
+    fs::create_hard_link(staged.file(), to, ec);
+    if (ec) fs::copy_file(staged.file(), to, ec);
+    if (ec) throw std::runtime_error("cannot link the staged upload: " + ec.message());
+}
+
+}  // namespace
+
 // The form JobStore accepts (isJobId): 12 lowercase hex digits.
 std::string JobManager::newId() const {
     static std::mt19937_64 rng(std::random_device{}());
@@ -151,12 +164,25 @@ bool JobManager::headFits() const {
     return runningMemory_ + need <= memoryPool_;
 }
 
+grpc::Status JobManager::reserveUploadBytes(uint64_t bytes) {
+    std::lock_guard lock(mutex_);
+    return reserveStore(bytes);
+}
+
+void JobManager::releaseUploadBytes(uint64_t bytes) {
+    std::lock_guard lock(mutex_);
+    pendingUploadBytes_ -= bytes;
+}
+
 grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& validated,
-                                pb::Job& out) {
+                                pb::Job& out, const StagedUpload* staged) {
     const bool upload = !spec.scene().has_scene_name();
-    const uint64_t uploadBytes = upload ? SceneSource::uploadBytes(spec.scene()) : 0;
-    const MemoryEstimate memory = estimate(
-        spec, validated, upload ? uploadBytes : scenes_.sceneBytes(spec.scene().scene_name()));
+    const uint64_t sceneBytes = staged   ? staged->bytes()
+                                : upload ? SceneSource::uploadBytes(spec.scene())
+                                         : scenes_.sceneBytes(spec.scene().scene_name());
+    // What this submission adds to the store: an inline upload's bytes (a staged one is there).
+    const uint64_t uploadBytes = upload && !staged ? sceneBytes : 0;
+    const MemoryEstimate memory = estimate(spec, validated, sceneBytes);
     if (limits_.maxJobMemoryBytes > 0 && memory.bytes > uint64_t(limits_.maxJobMemoryBytes))
         return {grpc::StatusCode::RESOURCE_EXHAUSTED,
                 "the job needs an estimated " + humanBytes(double(memory.bytes)) + " of memory (" +
@@ -171,7 +197,7 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
             return {grpc::StatusCode::RESOURCE_EXHAUSTED,
                     "the queue is full: " + std::to_string(queue_.size()) +
                         " jobs are waiting, the limit of this server (--max-queued)"};
-        if (upload)
+        if (uploadBytes > 0)
             if (grpc::Status s = reserveStore(uploadBytes); !s.ok()) return s;
         id = newId();
         reserved_.insert(id);
@@ -186,13 +212,15 @@ grpc::Status JobManager::submit(const pb::JobSpec& spec, const ValidatedSpec& va
     record.set_created_unix_ms(nowUnixMs());
     std::shared_ptr<Job> job;
     try {
-        if (!spec.scene().has_scene_name()) {
+        if (upload) {
             // The upload is kept with the job so that it can run (again) after a restart.
             fs::create_directories(store_.jobDir(id));
-            // Serialised straight into the file: no second copy of the upload in memory.
-            partita::writeFileAtomic(store_.jobDir(id) / kUploadFile, [&](int fd) {
-                return spec.scene().SerializeToFileDescriptor(fd);
-            });
+            if (staged)
+                linkStagedUpload(*staged, store_.jobDir(id) / kUploadFile);
+            else  // serialised straight into the file: no second copy of the upload in memory
+                partita::writeFileAtomic(store_.jobDir(id) / kUploadFile, [&](int fd) {
+                    return spec.scene().SerializeToFileDescriptor(fd);
+                });
         }
         int64_t sequence = store_.nextSequence();
         store_.insert(toStored(record, sequence), "submitted");

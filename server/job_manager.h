@@ -23,6 +23,7 @@
 #include "scene_source.h"
 #include "service_limits.h"
 #include "thread_pool.h"
+#include "upload_staging.h"
 #include "validation.h"
 
 namespace partita::server {
@@ -42,8 +43,15 @@ class JobManager {
     /// Queues a validated job. `spec` carries the scene (an upload is written to the store
     /// first). RESOURCE_EXHAUSTED when the queue is full, when the job's memory estimate is over
     /// --max-job-memory, or when an upload would take the store over --max-store-mb;
-    /// UNAVAILABLE while shutting down.
-    grpc::Status submit(const pb::JobSpec& spec, const ValidatedSpec& validated, pb::Job& out);
+    /// UNAVAILABLE while shutting down. With `staged`, the scene is that staged upload (spec
+    /// names its files): the job's folder gets a hard link to it, and no store bytes are
+    /// reserved (they are in the store already).
+    grpc::Status submit(const pb::JobSpec& spec, const ValidatedSpec& validated, pb::Job& out,
+                        const StagedUpload* staged = nullptr);
+    /// Store bytes for an upload in flight, against --max-store-mb with every other pending
+    /// upload (RESOURCE_EXHAUSTED when they do not fit); release them when it ends.
+    grpc::Status reserveUploadBytes(uint64_t bytes);
+    void releaseUploadBytes(uint64_t bytes);
     std::shared_ptr<Job> find(const std::string& id) const;
     /// A queued job is cancelled at once; a running one is flagged and ends shortly.
     grpc::Status cancel(const std::string& id, pb::Job& out);

@@ -4,6 +4,7 @@
 
 #include "result_stream.h"
 #include "text.h"
+#include "upload_session.h"
 #include "watch_session.h"
 #include "wire.h"
 
@@ -26,8 +27,8 @@ class FailedStream : public grpc::ServerWriteReactor<grpc::ByteBuffer> {
 
 PartitaService::PartitaService(JobManager& jobs, const SceneSource& scenes,
                                const ServiceLimits& limits, const TokenAuth& auth,
-                               Executor& executor)
-    : api_(jobs, scenes, limits), limits_(limits), auth_(auth), executor_(executor) {}
+                               Executor& executor, UploadStaging& uploads)
+    : api_(jobs, scenes, limits, &uploads), limits_(limits), auth_(auth), executor_(executor) {}
 
 grpc::Status PartitaService::outcome(Context* c, const char* method, const grpc::Status& status) {
     if (status.ok()) return status;
@@ -58,6 +59,12 @@ grpc::ServerUnaryReactor* PartitaService::unary(Context* c, const char* method, 
     grpc::ServerUnaryReactor* reactor = c->DefaultReactor();
     reactor->Finish(outcome(c, method, status));
     return reactor;
+}
+
+grpc::ServerReadReactor<grpc::ByteBuffer>* PartitaService::UploadScene(Context* c, Bytes* out) {
+    return new UploadSession(
+        c, api_, out, [this, c](const grpc::Status& s) { return outcome(c, "UploadScene", s); },
+        auth_.check(*c));
 }
 
 grpc::ServerUnaryReactor* PartitaService::SubmitJob(Context* c, const Bytes* in, Bytes* out) {

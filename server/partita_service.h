@@ -21,14 +21,15 @@
 namespace partita::server {
 
 // Every method of the service in its raw (ByteBuffer) form.
-using RawPartitaService = pb::Partita::WithRawCallbackMethod_SubmitJob<
-    pb::Partita::WithRawCallbackMethod_WatchJob<pb::Partita::WithRawCallbackMethod_GetJob<
-        pb::Partita::WithRawCallbackMethod_ListJobs<pb::Partita::WithRawCallbackMethod_CancelJob<
-            pb::Partita::WithRawCallbackMethod_DeleteJob<
-                pb::Partita::WithRawCallbackMethod_FetchResult<
-                    pb::Partita::WithRawCallbackMethod_ListScenes<
-                        pb::Partita::WithRawCallbackMethod_GetServerInfo<
-                            pb::Partita::Service>>>>>>>>>;
+using RawPartitaService = pb::Partita::WithRawCallbackMethod_UploadScene<
+    pb::Partita::WithRawCallbackMethod_SubmitJob<pb::Partita::WithRawCallbackMethod_WatchJob<
+        pb::Partita::WithRawCallbackMethod_GetJob<pb::Partita::WithRawCallbackMethod_ListJobs<
+            pb::Partita::WithRawCallbackMethod_CancelJob<
+                pb::Partita::WithRawCallbackMethod_DeleteJob<
+                    pb::Partita::WithRawCallbackMethod_FetchResult<
+                        pb::Partita::WithRawCallbackMethod_ListScenes<
+                            pb::Partita::WithRawCallbackMethod_GetServerInfo<
+                                pb::Partita::Service>>>>>>>>>>;
 
 class PartitaService final : public RawPartitaService {
   public:
@@ -36,8 +37,9 @@ class PartitaService final : public RawPartitaService {
     using Bytes = grpc::ByteBuffer;
 
     PartitaService(JobManager& jobs, const SceneSource& scenes, const ServiceLimits& limits,
-                   const TokenAuth& auth, Executor& executor);
+                   const TokenAuth& auth, Executor& executor, UploadStaging& uploads);
 
+    grpc::ServerReadReactor<Bytes>* UploadScene(Context* c, Bytes* out) override;
     grpc::ServerUnaryReactor* SubmitJob(Context* c, const Bytes* in, Bytes* out) override;
     grpc::ServerWriteReactor<Bytes>* WatchJob(Context* c, const Bytes* in) override;
     grpc::ServerUnaryReactor* GetJob(Context* c, const Bytes* in, Bytes* out) override;

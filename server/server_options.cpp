@@ -48,6 +48,8 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     app.set_version_flag("--version", PARTITA_VERSION);
     double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
     double rawPreviewMb = double(o.limits.maxRawPreviewBytes) / (1 << 20);
+    double messageMb = double(o.limits.maxMessageBytes) / (1 << 20);
+    double uploadTtlMinutes = o.limits.uploadTtlSeconds / 60;
     double jobMemoryMb = -1, totalMemoryMb = -1,
            storeMb = -1;  // -1: the defaults finalizeServerOptions computes
     app.add_option("--listen", o.listen, "address to listen on, host:port (port 0: any free port)")
@@ -82,6 +84,17 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     app.add_option("--max-seconds", o.limits.maxSeconds, "largest time budget, seconds")
         ->capture_default_str();
     app.add_option("--max-upload-mb", uploadMb, "largest uploaded scene (all its files), MiB")
+        ->capture_default_str();
+    app.add_option("--max-message-mb", messageMb,
+                   "largest request message, MiB: a scene sent inside SubmitJob must fit it "
+                   "(clients stream larger ones through UploadScene); gRPC holds a message being "
+                   "received whole")
+        ->capture_default_str();
+    app.add_option("--max-upload-streams", o.limits.maxUploadStreams,
+                   "most UploadScene streams in flight at once")
+        ->capture_default_str();
+    app.add_option("--upload-ttl-minutes", uploadTtlMinutes,
+                   "an uploaded scene no job names for this long is removed, minutes")
         ->capture_default_str();
     app.add_option("--max-queued", o.limits.maxQueuedJobs, "most jobs waiting in the queue")
         ->capture_default_str();
@@ -135,6 +148,20 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.maxUploadBytes = int64_t(uploadMb * (1 << 20));
+    if (!(messageMb >= 1) || messageMb > 1024) {
+        std::fprintf(stderr, "partitad: --max-message-mb must be in [1, 1024]\n");
+        return 2;
+    }
+    o.limits.maxMessageBytes = int64_t(messageMb * (1 << 20));
+    if (o.limits.maxUploadStreams < 1 || o.limits.maxUploadStreams > 1024) {
+        std::fprintf(stderr, "partitad: --max-upload-streams must be in [1, 1024]\n");
+        return 2;
+    }
+    if (!(uploadTtlMinutes > 0) || uploadTtlMinutes > 7 * 24 * 60) {
+        std::fprintf(stderr, "partitad: --upload-ttl-minutes must be in (0, 10080]\n");
+        return 2;
+    }
+    o.limits.uploadTtlSeconds = uploadTtlMinutes * 60;
     if (!(rawPreviewMb >= 0) || rawPreviewMb > 65536) {
         std::fprintf(stderr, "partitad: --max-raw-preview-mb must be in [0, 65536]\n");
         return 2;

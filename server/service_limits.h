@@ -13,7 +13,12 @@ struct ServiceLimits {
     int maxWidth = 8192, maxHeight = 8192;
     double maxSamplesPerPixel = 65536;  // also the limit on mutations per pixel
     double maxSeconds = 24 * 3600.0;
-    int64_t maxUploadBytes = int64_t(256) << 20;
+    int64_t maxUploadBytes = int64_t(256) << 20;  // one scene, all its files
+    /// Largest request message: an upload inside SubmitJob must fit it (larger scenes stream
+    /// through UploadScene). gRPC holds a message being received whole, ~3x its size.
+    int64_t maxMessageBytes = int64_t(4) << 20;
+    int maxUploadStreams = 4;        // UploadScene streams in flight at once
+    double uploadTtlSeconds = 3600;  // a staged upload no job names is removed after this
     int maxQueuedJobs = 1000;
     int maxWatchersPerJob = 64;
     int maxWatchStreams = 1024;  // open WatchJob streams of all jobs together

@@ -1,6 +1,10 @@
 #include "store_usage.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <set>
+#include <utility>
 
 namespace partita::server {
 
@@ -8,15 +12,17 @@ namespace fs = std::filesystem;
 
 uint64_t folderBytes(const fs::path& dir) {
     uint64_t total = 0;
+    std::set<std::pair<dev_t, ino_t>> linked;  // files with several names count once
     std::error_code ec;
     auto it =
         fs::recursive_directory_iterator(dir, fs::directory_options::skip_permission_denied, ec);
     for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
         std::error_code fileEc;
-        if (it->is_regular_file(fileEc)) {
-            uintmax_t size = it->file_size(fileEc);
-            if (!fileEc) total += size;
-        }
+        if (!it->is_regular_file(fileEc)) continue;
+        struct stat st {};
+        if (::lstat(it->path().c_str(), &st) != 0) continue;
+        if (st.st_nlink > 1 && !linked.insert({st.st_dev, st.st_ino}).second) continue;
+        total += uint64_t(st.st_size);
     }
     return total;
 }

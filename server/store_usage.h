@@ -9,7 +9,8 @@
 namespace partita::server {
 
 /// The bytes of every regular file under `dir` (symlinks not followed; unreadable entries
-/// skipped). Walks the folder: cheap next to receiving an upload.
+/// skipped; a file with several hard links, a staged upload and its jobs', counted once). Walks the
+/// folder: cheap next to receiving an upload.
 uint64_t folderBytes(const std::filesystem::path& dir);
 
 /// Half the capacity of the file system holding `path` (or its nearest existing parent), at most

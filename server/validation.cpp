@@ -55,11 +55,15 @@ const char* budgetUnit(BudgetKind k) {
 grpc::Status checkScene(const pb::SceneSource& scene, const ServiceLimits& limits) {
     switch (scene.source_case()) {
         case pb::SceneSource::SOURCE_NOT_SET:
-            return invalid("the job names no scene: set scene.scene_name, scene.glb or scene.gltf");
+            return invalid(
+                "the job names no scene: set scene.scene_name, scene.upload_id, scene.glb or "
+                "scene.gltf");
         case pb::SceneSource::kSceneName:
             if (std::string why = SceneSource::checkName(scene.scene_name()); !why.empty())
                 return invalid("invalid scene name: " + why);
             return grpc::Status::OK;
+        case pb::SceneSource::kUploadId:
+            return grpc::Status::OK;  // found, or NOT_FOUND, by the caller (upload_staging.h)
         case pb::SceneSource::kGlb:
             if (scene.glb().empty()) return invalid("the uploaded GLB is empty");
             break;
@@ -196,15 +200,22 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
 
 grpc::Status checkEnvironmentImage(const pb::JobSpec& spec, const SceneSource& scenes,
                                    const ServiceLimits& limits, ValidatedSpec& v) {
+    return checkEnvironmentImage(
+        [&](const std::string& file) {
+            return spec.scene().has_scene_name()
+                       ? scenes.readNamedResource(spec.scene().scene_name(), file,
+                                                  uint64_t(limits.maxUploadBytes))
+                       : SceneSource::readUploadedResource(spec.scene(), file);
+        },
+        v);
+}
+
+grpc::Status checkEnvironmentImage(
+    const std::function<std::vector<uint8_t>(const std::string&)>& readResource, ValidatedSpec& v) {
     const std::string& file = v.settings.environment.file;
     if (file.empty()) return grpc::Status::OK;
-    std::vector<uint8_t> bytes;
     try {
-        bytes = spec.scene().has_scene_name()
-                    ? scenes.readNamedResource(spec.scene().scene_name(), file,
-                                               uint64_t(limits.maxUploadBytes))
-                    : SceneSource::readUploadedResource(spec.scene(), file);
-        v.environment = readImageHeader(bytes, file);
+        v.environment = readImageHeader(readResource(file), file);
     } catch (const std::exception&) {
         return grpc::Status::OK;  // the job fails when it runs, saying why
     }

@@ -7,7 +7,9 @@
 
 #include <grpcpp/support/status.h>
 
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "image_io.h"
 #include "proto.h"
@@ -42,6 +44,9 @@ grpc::Status settingsFromSpec(const pb::JobSpec& spec, const ServiceLimits& limi
 /// that cannot be read now is left to fail the job when it runs, with the loader's message.
 grpc::Status checkEnvironmentImage(const pb::JobSpec& spec, const SceneSource& scenes,
                                    const ServiceLimits& limits, ValidatedSpec& v);
+/// The same with the image's bytes read by `readResource(uri)` (a staged upload's).
+grpc::Status checkEnvironmentImage(
+    const std::function<std::vector<uint8_t>(const std::string&)>& readResource, ValidatedSpec& v);
 
 /// The scene as listings, logs and metadata name it: the scene name, an upload's file name
 /// (scene_file), or "upload".

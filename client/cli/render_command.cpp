@@ -9,6 +9,7 @@
 #include "cli/job_spec.h"
 #include "cli/results.h"
 #include "cli/scene_source.h"
+#include "cli/scene_upload.h"
 #include "cli/watch.h"
 #include "frontend/progress_bar.h"
 
@@ -55,6 +56,7 @@ int runRender(CLI::App& sub, const GlobalOptions& global, RenderArgs& a) {
     Connection& conn = session.connection();
     session.checkAlgorithm(spec.algorithm());
     session.checkLimits(spec);
+    uploadScene(conn, *spec.mutable_scene());
     partita::v1::SubmitJobRequest request;
     *request.mutable_spec() = spec;
     const std::string id =

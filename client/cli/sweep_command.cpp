@@ -17,6 +17,7 @@
 #include "cli/job_spec.h"
 #include "cli/results.h"
 #include "cli/scene_source.h"
+#include "cli/scene_upload.h"
 #include "cli/sweep_axis.h"
 #include "cli/table.h"
 #include "cli/watch.h"
@@ -145,6 +146,9 @@ int runSweep(CLI::App& sub, const GlobalOptions& global, SweepArgs& a) {
     session.checkAlgorithm(base.algorithm());
     checkAxesMatter(session.algorithmParameters(base.algorithm()), base.algorithm(), axes);
     for (const auto& c : cells) session.checkLimits(c.spec);
+    // One upload for every point of the sweep.
+    uploadScene(conn, *base.mutable_scene());
+    for (auto& c : cells) *c.spec.mutable_scene() = base.scene();
     auto cancelRest = [&] {
         for (auto& c : cells)
             if (!c.id.empty() && !isTerminal(c.job.state())) cancelJobQuietly(conn, c.id);

@@ -63,8 +63,12 @@ TEST(ServiceCancel, WhileLoadingABigUploadedScene) {
     Daemon daemon(store.path());
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
+    pb::SceneSource scene;
+    scene.set_glb(makeGridGlb(900));  // 1.6 M triangles, ~25 MB: streamed (over 4 MiB)
+    Uploaded uploaded = upload(*stub, scene);
+    ASSERT_TRUE(uploaded.status.ok()) << uploaded.status.error_message();
     pb::JobSpec spec;
-    spec.mutable_scene()->set_glb(makeGridGlb(900));  // 1.6 M triangles, ~25 MB
+    spec.mutable_scene()->set_upload_id(uploaded.id);
     spec.set_width(32);
     spec.set_height(24);
     Submitted job = submit(*stub, spec);

@@ -20,6 +20,68 @@ namespace partita::test {
 
 using namespace std::chrono_literals;
 
+Uploaded sendUpload(pb::Partita::Stub& stub, const pb::UploadHeader& header,
+                    const std::vector<std::string>& pieces, bool sendHeader) {
+    auto ctx = context(120s);
+    pb::UploadSceneResponse response;
+    auto stream = stub.UploadScene(ctx.get(), &response);
+    pb::UploadChunk chunk;
+    bool open = true;
+    if (sendHeader) {
+        *chunk.mutable_header() = header;
+        open = stream->Write(chunk);
+        chunk.clear_header();
+    }
+    for (const auto& piece : pieces) {
+        if (!open) break;
+        chunk.set_data(piece);
+        open = stream->Write(chunk);
+    }
+    if (open) stream->WritesDone();
+    Uploaded out;
+    out.status = stream->Finish();
+    out.id = response.upload_id();
+    return out;
+}
+
+Uploaded upload(pb::Partita::Stub& stub, const pb::SceneSource& source, size_t pieceBytes) {
+    pb::UploadHeader header;
+    std::string all;
+    if (source.has_glb()) {
+        header.set_format(pb::SCENE_FORMAT_GLB);
+        header.set_scene_bytes(int64_t(source.glb().size()));
+        all = source.glb();
+    } else {
+        header.set_format(pb::SCENE_FORMAT_GLTF);
+        header.set_scene_bytes(int64_t(source.gltf().gltf().size()));
+        all = source.gltf().gltf();
+        for (const auto& r : source.gltf().resources()) {
+            auto* file = header.add_resources();
+            file->set_uri(r.uri());
+            file->set_size(int64_t(r.data().size()));
+            all += r.data();
+        }
+    }
+    std::vector<std::string> pieces;
+    for (size_t at = 0; at < all.size(); at += pieceBytes)
+        pieces.push_back(all.substr(at, pieceBytes));
+    return sendUpload(stub, header, pieces);
+}
+
+pb::ServerInfo serverInfo(pb::Partita::Stub& stub) {
+    pb::ServerInfo info;
+    auto ctx = context(10s);
+    EXPECT_TRUE(stub.GetServerInfo(ctx.get(), pb::ServerInfoRequest{}, &info).ok());
+    return info;
+}
+
+uint64_t procStatusKiB(pid_t pid, const std::string& field) {
+    std::string status = readFile("/proc/" + std::to_string(pid) + "/status");
+    size_t at = status.find(field + ":");
+    if (at == std::string::npos) return 0;
+    return std::stoull(status.substr(at + field.size() + 1));
+}
+
 std::string readFile(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream s;

@@ -77,6 +77,19 @@ struct Submitted {
 };
 Submitted submit(pb::Partita::Stub& stub, const pb::JobSpec& spec, const std::string& token = {});
 
+struct Uploaded {
+    grpc::Status status;
+    std::string id;
+};
+/// One UploadScene stream: `header` (unless sendHeader is false), then each of `pieces` as a
+/// data message.
+Uploaded sendUpload(pb::Partita::Stub& stub, const pb::UploadHeader& header,
+                    const std::vector<std::string>& pieces, bool sendHeader = true);
+/// Streams the upload `source` holds (glb, or gltf with resources) in pieces of `pieceBytes`,
+/// which run across the files' boundaries as a client may send them.
+Uploaded upload(pb::Partita::Stub& stub, const pb::SceneSource& source,
+                size_t pieceBytes = size_t(1) << 20);
+
 /// Everything a watch received until the stream ended.
 struct WatchLog {
     std::vector<pb::JobEvent> events;
@@ -113,6 +126,10 @@ std::string makeGridGlb(int n);
 std::string gltfWithBufferUri(const std::string& uri, size_t byteLength = 36);
 
 std::string readFile(const fs::path& path);
+/// GetServerInfo (the call is expected to succeed).
+pb::ServerInfo serverInfo(pb::Partita::Stub& stub);
+/// A /proc/<pid>/status field in KiB ("VmRSS", "VmHWM"); 0 when absent.
+uint64_t procStatusKiB(pid_t pid, const std::string& field);
 void writeFile(const fs::path& path, const std::string& bytes);
 
 }  // namespace partita::test

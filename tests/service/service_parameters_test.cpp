@@ -50,13 +50,6 @@ const std::map<std::string, std::string>& cheapValues() {
     return values;
 }
 
-pb::ServerInfo serverInfo(pb::Partita::Stub& stub) {
-    pb::ServerInfo info;
-    auto ctx = context(10s);
-    EXPECT_TRUE(stub.GetServerInfo(ctx.get(), pb::ServerInfoRequest{}, &info).ok());
-    return info;
-}
-
 pb::JobSpec specOf(const pb::AlgorithmInfo& a) {
     pb::JobSpec spec = sceneSpec("cornell", 8, 6, 1);
     spec.clear_width();

@@ -13,13 +13,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-pb::ServerInfo serverInfo(pb::Partita::Stub& stub) {
-    pb::ServerInfo info;
-    auto ctx = context(10s);
-    EXPECT_TRUE(stub.GetServerInfo(ctx.get(), pb::ServerInfoRequest{}, &info).ok());
-    return info;
-}
-
 TEST(ServiceResources, JobOverTheMemoryLimitIsRefusedWithItsEstimateOneUnderRuns) {
     TempDir store;
     Daemon daemon(store.path(), {"--max-job-memory", "64"});
@@ -128,14 +121,6 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Submitted mltSmall = submit(*stub, mlt);
     ASSERT_TRUE(mltSmall.status.ok()) << mltSmall.status.error_message();
     EXPECT_EQ(waitForEnd(*stub, mltSmall.id, 60s).state(), pb::JOB_STATE_DONE);
-}
-
-/// A /proc/<pid>/status field in KiB ("VmRSS", "VmHWM").
-uint64_t procStatusKiB(pid_t pid, const std::string& field) {
-    std::string status = readFile("/proc/" + std::to_string(pid) + "/status");
-    size_t at = status.find(field + ":");
-    if (at == std::string::npos) return 0;
-    return std::stoull(status.substr(at + field.size() + 1));
 }
 
 /// The memory estimate the daemon logged for job `id` ("memory estimate 455.2 MiB"), in bytes.

@@ -15,7 +15,7 @@ from ._stubs import pb2, pb2_grpc
 from .algorithms import Algorithm, value_to_proto
 from .errors import PartitaError, from_rpc_error
 from .models import Job, PreviewEvent, StateEvent, event_from_proto, TERMINAL_STATES
-from .scene import add_environment_image, scene_source
+from .scene import add_environment_image, scene_source, upload_chunks
 
 # submit() keywords that are not declared parameters: the job's algorithm, budget, queue place,
 # label and an environment image file (uploaded with the scene). Every other keyword is a
@@ -150,7 +150,23 @@ class Client:
         name the algorithm does not declare is refused before anything is sent."""
         spec = job_spec(scene, **params)
         self.check_parameters(spec.algorithm, spec.parameters.keys())
+        if spec.scene.WhichOneof("source") in ("glb", "gltf"):
+            spec.scene.upload_id = self.upload(spec.scene)
         return self._call("SubmitJob", pb2.SubmitJobRequest(spec=spec), "submit job").job_id
+
+    def upload(self, scene) -> str:
+        """Streams a scene to the server ahead of its jobs (UploadScene) and returns the upload
+        id jobs name it by (`SceneSource.upload_id`; Client.submit does this for a file).
+        `scene`: a .gltf/.glb path or a SceneSource holding an upload. The server holds one
+        piece at a time; an upload no job names for the server's upload_ttl_seconds is
+        removed."""
+        source = scene if isinstance(scene, pb2.SceneSource) else scene_source(scene)
+        try:
+            response = self._stub.UploadScene(upload_chunks(source), timeout=3600,
+                                              metadata=self._metadata)
+        except grpc.RpcError as e:
+            raise from_rpc_error(e, "upload scene", self.address) from None
+        return response.upload_id
 
     def check_parameters(self, algorithm: str, names) -> None:
         """Raises ValueError naming the first of `names` that `algorithm` does not declare on

@@ -13,7 +13,7 @@ import json
 import os
 import struct
 from pathlib import Path
-from typing import List, Union
+from typing import Iterator, List, Union
 from urllib.parse import unquote
 
 from ._stubs import pb2
@@ -113,3 +113,31 @@ def add_environment_image(spec, image: Union[str, os.PathLike]) -> None:
     uri = "partita-environment/" + path.name
     spec.scene.gltf.resources.add(uri=uri, data=data)
     spec.environment_file = uri
+
+
+_PIECE_BYTES = 1 << 20
+
+
+def upload_chunks(source) -> Iterator:
+    """The UploadChunk messages of an upload (a SceneSource with glb or gltf set): the header
+    declaring every file and its size, then the files' bytes in 1 MiB pieces (the scene file,
+    then each resource in the header's order)."""
+    which = source.WhichOneof("source")
+    if which not in ("glb", "gltf"):
+        raise PartitaError("only an uploaded .glb or .gltf scene can be streamed")
+    header = pb2.UploadHeader()
+    if which == "glb":
+        header.format = pb2.SCENE_FORMAT_GLB
+        files = [source.glb]
+    else:
+        header.format = pb2.SCENE_FORMAT_GLTF
+        files = [source.gltf.gltf]
+        for r in source.gltf.resources:
+            header.resources.add(uri=r.uri, size=len(r.data))
+            files.append(r.data)
+    header.scene_bytes = len(files[0])
+    yield pb2.UploadChunk(header=header)
+    for data in files:
+        view = memoryview(data)
+        for at in range(0, len(data), _PIECE_BYTES):
+            yield pb2.UploadChunk(data=bytes(view[at:at + _PIECE_BYTES]))

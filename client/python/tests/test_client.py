@@ -24,6 +24,8 @@ sys.path.insert(0, str(CLIENT_DIR))
 
 from partita_client import (Client, LocalDaemon, PartitaError, PreviewEvent,  # noqa: E402
                             ProgressEvent, StateEvent, read_exr, rel_mse, rmse)
+from partita_client._stubs import pb2  # noqa: E402
+from partita_client.client import job_spec  # noqa: E402
 
 REPO = CLIENT_DIR.parents[1]
 SCENES = Path(os.environ.get("PARTITA_SCENE_ROOT", REPO / "scenes"))
@@ -74,6 +76,21 @@ class ClientTest(unittest.TestCase):
         self.assertIsNotNone(info.seconds)
         meta = self.client.metadata(job)
         self.assertIsInstance(meta, dict)
+
+    def test_one_upload_serves_several_jobs(self):
+        # A file is streamed ahead of its jobs (UploadScene); jobs name the upload by its id.
+        upload_id = self.client.upload(CORNELL)
+        self.assertRegex(upload_id, r"^[0-9a-f]{16}$")
+        a = self.client.submit("cornell", seed=3, **TINY)
+        spec = job_spec("cornell", seed=3, **TINY)
+        spec.scene.upload_id = upload_id
+        b = self.client._call("SubmitJob", pb2.SubmitJobRequest(spec=spec), "submit").job_id
+        np.testing.assert_array_equal(self.client.result(a)["combined"],
+                                      self.client.result(b)["combined"])
+        with self.assertRaises(PartitaError) as e:  # an id the server never gave
+            spec.scene.upload_id = "0123456789abcdef"
+            self.client._call("SubmitJob", pb2.SubmitJobRequest(spec=spec), "submit")
+        self.assertIn("upload the scene again", str(e.exception))
 
     def test_raw_final_preview_matches_result(self):
         job = self.client.submit("cornell", **TINY)
