@@ -96,7 +96,7 @@ references: deps
 # Every libFuzzer target (tests/fuzz/README.md) for FUZZ_SECONDS each, from its seeds in
 # tests/fuzz/seeds/<target>; the corpus grows in fuzz-corpus/<target>, findings land in
 # fuzz-findings/. FUZZ_TARGETS picks some.
-FUZZ_TARGETS ?= gltf_loader environment_image shard_files chain_plan job_store_rows job_spec
+FUZZ_TARGETS ?= gltf_loader environment_image shard_files chain_plan job_store_rows job_spec upload_stream
 FUZZ_SECONDS ?= 120
 fuzz: deps
 	@cmake -S . -B $(FUZZ_BUILD) $(ASAN_CMAKE) >/dev/null

@@ -51,6 +51,10 @@ grpc::Status checkHeader(const pb::UploadHeader& h, const ServiceLimits& limits,
     total = uint64_t(h.scene_bytes());
     std::set<std::string> seen;
     for (const auto& r : h.resources()) {
+        // The staged file is a SceneSource, whose uri is a proto3 string: UTF-8 or unreadable.
+        if (!isValidUtf8(r.uri()))
+            return invalid("uploaded resource '" + quoteInput(r.uri(), 64) +
+                           "' refused: its uri is not valid UTF-8");
         if (std::string why = checkRelativeUri(r.uri()); !why.empty())
             return invalid("uploaded resource '" + printableUri(r.uri()) + "' refused: " + why);
         if (!seen.insert(r.uri()).second)

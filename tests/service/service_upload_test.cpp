@@ -113,6 +113,8 @@ TEST(UploadScene, RefusalsHaveTheirCodesAndLeaveNothingStaged) {
     twice = escaping;
     twice.mutable_resources(0)->set_uri("a.bin");
     *twice.add_resources() = twice.resources(0);
+    pb::UploadHeader notUtf8 = escaping;
+    notUtf8.mutable_resources(0)->set_uri("\xff.bin");
     huge.set_scene_bytes(int64_t(2) << 20);
     glbWithFiles.add_resources()->set_uri("a.bin");
     const std::vector<Case> cases = {
@@ -121,6 +123,7 @@ TEST(UploadScene, RefusalsHaveTheirCodesAndLeaveNothingStaged) {
         {"no format", noFormat, {"0123456789"}, true, Code::INVALID_ARGUMENT, "format"},
         {"empty scene", empty, {}, true, Code::INVALID_ARGUMENT, "empty"},
         {"uri escapes", escaping, {"{}x"}, true, Code::INVALID_ARGUMENT, "secret.bin"},
+        {"uri not UTF-8", notUtf8, {"{}x"}, true, Code::INVALID_ARGUMENT, "UTF-8"},
         {"uri twice", twice, {"{}xx"}, true, Code::INVALID_ARGUMENT, "uploaded twice"},
         {"glb with resources", glbWithFiles, {}, true, Code::INVALID_ARGUMENT, "alone"},
         {"over the size limit", huge, {}, true, Code::RESOURCE_EXHAUSTED, "--max-upload-mb"},
