@@ -253,7 +253,21 @@ void writeExr(const fs::path& path, const LayeredImage& image,
     });
 }
 
+namespace {
+
+/// By default OpenImageIO hands a file that the reader its extension names cannot open to every
+/// other format reader in turn. Images here are untrusted (an uploaded environment map) and
+/// only EXR and HDR are meant: only the extension's reader may parse them. (It also makes a
+/// refusal much cheaper: tests/fuzz/README.md.)
+void onlyTheReaderOfTheExtension() {
+    static const bool set = OIIO::attribute("try_all_readers", 0);
+    (void)set;
+}
+
+}  // namespace
+
 ImageHeader readImageHeader(std::span<const uint8_t> bytes, const std::string& name) {
+    onlyTheReaderOfTheExtension();
     if (std::string why = exrHeaderProblem(bytes); !why.empty())
         throw std::runtime_error("cannot read image '" + fs::path(name).filename().string() +
                                  "': " + why);
@@ -276,6 +290,7 @@ LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* m
     std::error_code ec;
     if (!fs::exists(path, ec)) fail("no such file");
     if (std::string why = exrHeaderProblem(path); !why.empty()) fail(why);
+    onlyTheReaderOfTheExtension();
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) fail(oiioError(in.get()));
     const OIIO::ImageSpec spec = in->spec();

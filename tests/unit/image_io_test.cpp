@@ -152,6 +152,19 @@ TEST_F(ImageIoTest, ASizeLimitIsCheckedFromTheHeaderAndHeadersReadFromBytes) {
         std::runtime_error);
 }
 
+TEST_F(ImageIoTest, OnlyTheReaderOfTheExtensionParsesAnImage) {
+    // An uploaded image is untrusted: a file named .exr that is not EXR must not reach every
+    // other format reader OpenImageIO has (its default), only be refused.
+    std::string hdr =
+        "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n" + std::string(4 * 8 * 4, 'x');
+    std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(hdr.data()), hdr.size());
+    EXPECT_EQ(readImageHeader(bytes, "sky.hdr").pixels(), size_t(32));
+    EXPECT_THROW(readImageHeader(bytes, "sky.exr"), std::runtime_error);
+    const fs::path file = dir_ / "radiance.exr";
+    std::ofstream(file, std::ios::binary) << hdr;
+    EXPECT_THROW(readExr(file, nullptr, 0), std::runtime_error);
+}
+
 /// An EXR header of one string attribute whose size field claims `claimed` bytes, followed by
 /// a few bytes of value: what OpenEXR 3.1 would allocate before noticing the file is short.
 std::vector<uint8_t> exrWithAStringClaiming(uint32_t claimed) {
