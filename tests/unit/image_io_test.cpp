@@ -152,6 +152,52 @@ TEST_F(ImageIoTest, ASizeLimitIsCheckedFromTheHeaderAndHeadersReadFromBytes) {
         std::runtime_error);
 }
 
+/// One EXR attribute: name, type, size, value.
+void exrAttribute(std::vector<uint8_t>& b, const std::string& name, const std::string& type,
+                  const std::vector<uint8_t>& value) {
+    b.insert(b.end(), name.c_str(), name.c_str() + name.size() + 1);
+    b.insert(b.end(), type.c_str(), type.c_str() + type.size() + 1);
+    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(value.size() >> (8 * i)));
+    b.insert(b.end(), value.begin(), value.end());
+}
+
+std::vector<uint8_t> le32(std::initializer_list<int32_t> values) {
+    std::vector<uint8_t> out;
+    for (int32_t v : values)
+        for (int i = 0; i < 4; ++i) out.push_back(uint8_t(uint32_t(v) >> (8 * i)));
+    return out;
+}
+
+// Found by tests/fuzz/fuzz_environment_image: a 750-byte file whose data window was 268 million
+// pixels wide made OpenEXR allocate a 1 GiB line buffer while readImageHeader opened it.
+TEST_F(ImageIoTest, AnExrWhoseDataWindowWouldNeedGigabytesToOpenIsRefusedFirst) {
+    auto exr = [](int32_t width, int32_t height) {
+        std::vector<uint8_t> b = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0};
+        std::vector<uint8_t> channel = {'Y', 0};
+        for (uint8_t x : le32({2, 0, 1, 1})) channel.push_back(x);  // float, pLinear 0, 1 x 1
+        channel.push_back(0);
+        exrAttribute(b, "channels", "chlist", channel);
+        exrAttribute(b, "compression", "compression", {0});
+        exrAttribute(b, "dataWindow", "box2i", le32({0, 0, width - 1, height - 1}));
+        b.push_back(0);
+        return b;
+    };
+    try {
+        readImageHeader(exr(268459369, 1), "sky.exr");
+        ADD_FAILURE() << "a 268 million pixel wide EXR was opened";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("data window"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(readImageHeader(exr(1, 1 << 30), "sky.exr"), std::runtime_error);  // offsets
+    // Within the bound the walk leaves the file to OpenEXR (which refuses this one: it lacks
+    // attributes), and real files read as before (the tests above).
+    try {
+        readImageHeader(exr(16384, 8192), "sky.exr");
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()).find("data window"), std::string::npos) << e.what();
+    }
+}
+
 TEST_F(ImageIoTest, OnlyTheReaderOfTheExtensionParsesAnImage) {
     // An uploaded image is untrusted: a file named .exr that is not EXR must not reach every
     // other format reader OpenImageIO has (its default), only be refused.
