@@ -17,6 +17,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The Content-Length a request declares (0 when none).
+uint64_t contentLength(const httplib::Request& req) {
+    return std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10);
+}
+
 constexpr auto kEventWait = std::chrono::milliseconds(500);
 constexpr auto kKeepAlive = std::chrono::seconds(10);  // an SSE comment when nothing happened
 constexpr size_t kFileChunk = 1 << 20;
@@ -91,8 +96,9 @@ int DashboardServer::start() {
     server_->set_write_timeout(options_.writeTimeoutSeconds, 0);
     server_->set_read_timeout(5, 0);
     server_->set_keep_alive_timeout(5);
-    // An uploaded .glb travels base64 in the JSON spec: 4/3 of its bytes, plus the rest.
-    server_->set_payload_max_length(size_t(api_.limits().maxUploadBytes) / 3 * 4 + (1 << 20));
+    // The largest body: a .glb streamed to /api/uploads (written to the store as it arrives).
+    // Other bodies are held whole: the pre-routing check bounds them by jsonBodyLimit().
+    server_->set_payload_max_length(size_t(api_.limits().maxUploadBytes) + (1 << 20));
     addRoutes();
     int bound = port == 0                           ? server_->bind_to_any_port(host)
                 : server_->bind_to_port(host, port) ? port
@@ -109,6 +115,11 @@ void DashboardServer::stop() {
     if (thread_.joinable()) thread_.join();
 }
 
+size_t DashboardServer::jsonBodyLimit() const {
+    // A JSON spec may carry a .glb base64 (4/3 of its bytes) up to the gRPC message limit.
+    return size_t(api_.limits().maxMessageBytes) / 3 * 4 + (1 << 20);
+}
+
 void DashboardServer::addRoutes() {
     server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
         securityHeaders(res);
@@ -120,6 +131,13 @@ void DashboardServer::addRoutes() {
         }
         if (std::string cookie = access_.loginCookie(req); !cookie.empty())
             res.set_header("Set-Cookie", cookie);
+        // Before the body is read: only /api/uploads streams a large one.
+        if (req.path != "/api/uploads" && contentLength(req) > jsonBodyLimit()) {
+            sendStatus(res, {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                             "a request body is at most " + std::to_string(jsonBodyLimit()) +
+                                 " bytes; send a scene to /api/uploads"});
+            return httplib::Server::HandlerResponse::Handled;
+        }
         return httplib::Server::HandlerResponse::Unhandled;
     });
     server_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
@@ -188,6 +206,30 @@ void DashboardServer::addJobRoutes() {
         if (grpc::Status s = api_.list(request, jobs); !s.ok()) return sendStatus(res, s);
         res.set_header("Cache-Control", "no-store");
         sendJson(res, jobs);
+    });
+    // A .glb as the raw body, written to the store as it arrives (UploadScene's staging): the
+    // answer's upload_id names it in a job's scene.
+    server_->Post("/api/uploads", [this](const httplib::Request& req, httplib::Response& res,
+                                         const httplib::ContentReader& content) {
+        pb::UploadHeader header;
+        header.set_format(pb::SCENE_FORMAT_GLB);
+        header.set_scene_bytes(int64_t(contentLength(req)));
+        std::unique_ptr<UploadWriter> writer;
+        grpc::Status s = api_.beginUpload(header, writer);
+        if (s.ok())
+            content([&](const char* data, size_t size) {
+                s = writer->append(std::string(data, size));
+                return s.ok();
+            });
+        pb::UploadSceneResponse uploaded;
+        if (s.ok()) s = writer->finish(uploaded);
+        writer.reset();
+        if (!s.ok()) {
+            spdlog::info("dashboard: upload refused from {}: {}", req.remote_addr,
+                         s.error_message());
+            return sendStatus(res, s);
+        }
+        sendJson(res, uploaded, 201);
     });
     server_->Post("/api/jobs", [this](const httplib::Request& req, httplib::Response& res) {
         pb::JobSpec spec;

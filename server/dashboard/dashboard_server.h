@@ -48,6 +48,8 @@ class DashboardServer {
     void stop();
 
   private:
+    /// The largest body held whole (every route but /api/uploads, which streams).
+    size_t jsonBodyLimit() const;
     void addRoutes();
     void addPageRoutes();
     void addJobRoutes();

@@ -161,7 +161,7 @@ class DashboardBrowserTest(unittest.TestCase):
         field.clear()
         field.send_keys(str(value))
 
-    def submit_from_form(self, algorithm, seconds, width, height, extra=None):
+    def submit_from_form(self, algorithm, seconds, width, height, extra=None, upload=None):
         from selenium.webdriver.support.ui import Select
         self.driver.get(self.server.base + "/")
         wait_for(lambda: len(self.driver.find_elements("css selector", "#algorithm option")) > 1,
@@ -174,6 +174,12 @@ class DashboardBrowserTest(unittest.TestCase):
         self.set_field("#param-height", height)
         for name, value in (extra or {}).items():
             self.set_field("#param-" + name, value)
+        if upload:
+            # chromedriver runs on this machine: it reads the path itself (selenium would
+            # otherwise try to send the file to a remote grid).
+            from selenium.webdriver.remote.file_detector import UselessFileDetector
+            self.driver.file_detector = UselessFileDetector()
+            self.find("#upload").send_keys(str(upload))
         self.find("#submit-button").click()
         wait_for(lambda: "/job?id=" in self.driver.current_url, 20, "the job page")
         return self.driver.current_url.split("id=")[1]
@@ -218,6 +224,18 @@ class DashboardBrowserTest(unittest.TestCase):
                  20, "the job in the list")
         self.assertIn("DONE", self.find(f'tr[data-id="{job_id}"]').text)
         self.screenshot("jobs.png")
+
+    def test_a_glb_chosen_in_the_form_is_streamed_and_renders(self):
+        # The form streams the file to /api/uploads, then submits a job naming the upload.
+        from test_dashboard_http import cornell_glb
+        with tempfile.TemporaryDirectory() as folder:
+            scene = Path(folder) / "box.glb"
+            scene.write_bytes(cornell_glb())
+            job_id = self.submit_from_form("pt", 1, 32, 24, upload=scene)
+        wait_for(lambda: self.state() == "DONE", 60, "the uploaded scene's job to finish")
+        status, job = self.server.json("GET", "/api/jobs/" + job_id)
+        self.assertEqual(job["spec"]["scene_file"], "box.glb")
+        self.assertIn("glb", job["spec"]["scene"])
 
     def test_convergence_plot_and_cancel_from_the_job_page(self):
         job_id = self.submit_from_form("pt", 600, 64, 48, {"preview_interval": 0.25})

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import socket
+import struct
 import subprocess
 import tempfile
 import threading
@@ -29,6 +30,19 @@ def long_job(seconds=60, width=64, height=48, preview=None):
     if preview:
         spec["parameters"]["preview_interval"] = {"real_value": preview}
     return spec
+
+
+def cornell_glb():
+    """scenes/cornell as one .glb: the .gltf's JSON with its buffer inside (glTF 2.0 5.1)."""
+    folder = Path(__file__).resolve().parents[2] / "scenes" / "cornell"
+    doc = json.loads((folder / "cornell.gltf").read_text())
+    binary = (folder / doc["buffers"][0].pop("uri")).read_bytes()
+    binary += b"\0" * (-len(binary) % 4)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    chunks = (struct.pack("<II", len(text), 0x4E4F534A) + text +
+              struct.pack("<II", len(binary), 0x004E4942) + binary)
+    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
 
 
 def vm_rss_kib(pid):
@@ -155,6 +169,29 @@ class DashboardApiTest(unittest.TestCase):
             status, _, body = self.server.request("GET", path)
             self.assertIn(status, (400, 404), path)
             self.assertNotIn(b"root:", body, path)
+
+    def test_a_scene_streams_to_uploads_and_jobs_name_it(self):
+        glb = cornell_glb()
+        status, uploaded = self.server.json("POST", "/api/uploads", glb,
+                                            {"Content-Type": "model/gltf-binary"})
+        self.assertEqual(status, 201, uploaded)
+        self.assertEqual(int(uploaded["bytes"]), len(glb))
+        spec = json.loads(json.dumps(SMALL_PT))
+        spec["scene"] = {"upload_id": uploaded["upload_id"]}
+        spec["scene_file"] = "cornell.glb"
+        status, job = self.server.json("POST", "/api/jobs", spec)
+        self.assertEqual(status, 201, job)
+        self.assertEqual(self.wait_state(job["id"], ["JOB_STATE_DONE"])["state"], "JOB_STATE_DONE")
+        # Refused: a change without the dashboard's header, a body without a length, and a
+        # JSON body over the limit, before it is read (uploads go to /api/uploads).
+        status, _, _ = self.server.request("POST", "/api/uploads", glb, {"X-Partita": "0"})
+        self.assertEqual(status, 403)
+        status, answer = self.server.json("POST", "/api/uploads", b"")
+        self.assertEqual((status, answer["code"]), (400, "INVALID_ARGUMENT"), answer)
+        status, answer = self.server.json("POST", "/api/jobs", b"{" + b" " * (8 << 20) + b"}",
+                                          {"Content-Type": "application/json"})
+        self.assertEqual((status, answer["code"]), (429, "RESOURCE_EXHAUSTED"), answer)
+        self.assertIn("/api/uploads", answer["error"])
 
     def test_huge_headers_and_bodies_are_refused(self):
         status, _, _ = self.server.request("GET", "/api/jobs", headers={"X-Big": "a" * 200000})

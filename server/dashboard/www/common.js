@@ -16,6 +16,11 @@ const api = {
     }
     return api.answer(await fetch(path, init));
   },
+  // A file as the raw body (a scene to /api/uploads: streamed to the store as it arrives).
+  async sendFile(path, file) {
+    return api.answer(await fetch(path, { method: "POST", headers: { "X-Partita": "1" },
+                                          body: file }));
+  },
   async answer(response) {
     if (response.status === 204) return null;
     const text = await response.text();

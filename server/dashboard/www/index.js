@@ -83,15 +83,6 @@ function parameterValue(input) {
   }
 }
 
-function readBase64(file) {
-  return new Promise((resolve, reject) => {
-    const reader = new FileReader();
-    reader.onload = () => resolve(String(reader.result).split(",")[1] || "");
-    reader.onerror = () => reject(reader.error);
-    reader.readAsDataURL(file);
-  });
-}
-
 async function submit(event) {
   event.preventDefault();
   const errorText = document.getElementById("submit-error");
@@ -105,7 +96,13 @@ async function submit(event) {
   };
   const upload = document.getElementById("upload").files[0];
   if (upload) {
-    spec.scene = { glb: await readBase64(upload) };
+    try {
+      const uploaded = await api.sendFile("/api/uploads", upload);
+      spec.scene = { upload_id: uploaded.upload_id };
+    } catch (e) {
+      errorText.textContent = e.message;
+      return;
+    }
     spec.scene_file = upload.name;
   } else {
     spec.scene = { scene_name: document.getElementById("scene").value };
