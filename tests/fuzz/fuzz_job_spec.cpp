@@ -3,23 +3,19 @@
 // environment image's header read (an uploaded resource, or a file of a shipped scene's folder),
 // then stripped of its scene bytes as the store keeps it. Validation answers with a status; it may
 // not throw or crash, whatever the spec holds.
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
 
 #include <cstddef>
 #include <cstdint>
 
 #include "proto.h"
+#include "quiet_logs.h"
 #include "scene_source.h"
 #include "validation.h"
 
 namespace ps = partita::server;
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    spdlog::set_level(spdlog::level::off);
-    // protobuf logs every invalid UTF-8 string it parses; that is expected here, and slow.
-    google::protobuf::SetLogHandler(
-        [](google::protobuf::LogLevel, const char*, int, const std::string&) {});
+    partita::fuzz::quietLogs();
     return 0;
 }
 

@@ -3,13 +3,12 @@
 // again (settingsFromSpec) and its memory estimated, as JobManager::recover does; the job is
 // then stored again (toStored). None of it may throw or crash, whatever the row holds.
 #include <fuzzer/FuzzedDataProvider.h>
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
 
 #include <cstddef>
 #include <cstdint>
 
 #include "job_memory.h"
+#include "quiet_logs.h"
 #include "stored_job.h"
 #include "validation.h"
 
@@ -37,10 +36,7 @@ ps::StoredJob rowFrom(FuzzedDataProvider& in) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    spdlog::set_level(spdlog::level::off);
-    // protobuf logs every invalid UTF-8 string it parses; that is expected here, and slow.
-    google::protobuf::SetLogHandler(
-        [](google::protobuf::LogLevel, const char*, int, const std::string&) {});
+    partita::fuzz::quietLogs();
     return 0;
 }
 

@@ -3,8 +3,6 @@
 // finishes must be stored as the SceneSource its header and bytes describe, one that sends more
 // or fewer bytes than declared must be refused.
 #include <fuzzer/FuzzedDataProvider.h>
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
 #include <stdlib.h>
 
 #include <cstddef>
@@ -12,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "quiet_logs.h"
 #include "upload_staging.h"
 
 namespace ps = partita::server;
@@ -69,9 +68,7 @@ ps::pb::SceneSource expected(const ps::pb::UploadHeader& h, const std::string& s
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    spdlog::set_level(spdlog::level::off);
-    google::protobuf::SetLogHandler(
-        [](google::protobuf::LogLevel, const char*, int, const std::string&) {});
+    partita::fuzz::quietLogs();
     return 0;
 }
 
