@@ -1,7 +1,10 @@
 #include "cli/scene_upload.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 namespace partita::cli {
@@ -31,17 +34,15 @@ std::vector<std::string_view> filesOf(const partita::v1::SceneSource& source,
     return files;
 }
 
-}  // namespace
-
-void uploadScene(Connection& conn, partita::v1::SceneSource& source) {
-    if (!source.has_glb() && !source.has_gltf()) return;
+/// One UploadScene stream of `files`; the upload's id in `id` when it succeeds.
+grpc::Status sendOnce(Connection& conn, const partita::v1::UploadHeader& header,
+                      const std::vector<std::string_view>& files, std::string& id) {
     grpc::ClientContext context;
     conn.prepare(context, 3600);
     partita::v1::UploadSceneResponse response;
     auto stream = conn.stub().UploadScene(&context, &response);
-
     partita::v1::UploadChunk chunk;
-    const std::vector<std::string_view> files = filesOf(source, *chunk.mutable_header());
+    *chunk.mutable_header() = header;
     bool open = stream->Write(chunk);
     chunk.clear_header();
     for (std::string_view file : files)
@@ -52,9 +53,42 @@ void uploadScene(Connection& conn, partita::v1::SceneSource& source) {
     // A refusal ends the stream early (Write fails); Finish says why.
     if (open) stream->WritesDone();
     grpc::Status status = stream->Finish();
+    id = response.upload_id();
+    return status;
+}
+
+/// The server receives as many uploads as it allows at once (--max-upload-streams): a refusal
+/// that passes when one of them ends, unlike the other RESOURCE_EXHAUSTED ones (size, store).
+bool serverBusy(const grpc::Status& status) {
+    return status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED &&
+           status.error_message().find("--max-upload-streams") != std::string::npos;
+}
+
+}  // namespace
+
+void uploadScene(Connection& conn, partita::v1::SceneSource& source) {
+    if (!source.has_glb() && !source.has_gltf()) return;
+    partita::v1::UploadHeader header;
+    const std::vector<std::string_view> files = filesOf(source, header);
+    // A busy server is waited for (at most 10 minutes, backing off to 5 s between tries).
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point giveUp = Clock::now() + std::chrono::minutes(10);
+    std::chrono::milliseconds pause(250);
+    std::string id;
+    grpc::Status status;
+    for (bool announced = false;; pause = std::min(pause * 2, std::chrono::milliseconds(5000))) {
+        status = sendOnce(conn, header, files, id);
+        if (!serverBusy(status) || Clock::now() + pause > giveUp) break;
+        if (!announced)
+            std::fprintf(stderr,
+                         "partita: the server is receiving as many uploads as it takes; "
+                         "waiting to send the scene\n");
+        announced = true;
+        std::this_thread::sleep_for(pause);
+    }
     if (!status.ok()) conn.fail(status, "upload scene");
     source.Clear();
-    source.set_upload_id(response.upload_id());
+    source.set_upload_id(id);
 }
 
 }  // namespace partita::cli

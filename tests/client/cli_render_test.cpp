@@ -4,7 +4,12 @@
 #include "cli_test_util.h"
 #include "image_io.h"
 
+#include <grpcpp/grpcpp.h>
+
 #include <cstring>
+#include <thread>
+
+#include "cli/proto.h"
 
 namespace partita::test {
 namespace {
@@ -102,6 +107,46 @@ TEST(CliRender, WithServerByNameAndUpload) {
     expectResults(dir / "up.exr", 32, 24);
     auto meta = nlohmann::json::parse(readText(dir / "up.json"));
     EXPECT_EQ(meta.dump().find("\"seed\":7") != std::string::npos, true) << meta.dump();
+}
+
+TEST(CliRender, AnUploadWaitsWhileTheServerReceivesAsManyAsItTakes) {
+    Daemon daemon({"--max-upload-streams", "1"});
+    // A stream that sent its header and half its bytes holds the server's one upload place.
+    auto stub = partita::v1::Partita::NewStub(
+        grpc::CreateChannel(daemon.address(), grpc::InsecureChannelCredentials()));
+    grpc::ClientContext context;
+    partita::v1::UploadSceneResponse response;
+    auto held = stub->UploadScene(&context, &response);
+    partita::v1::UploadChunk chunk;
+    chunk.mutable_header()->set_format(partita::v1::SCENE_FORMAT_GLB);
+    chunk.mutable_header()->set_scene_bytes(10);
+    chunk.set_data("01234");
+    ASSERT_TRUE(held->Write(chunk));
+    // Admitted once its file is in the store.
+    auto staged = [&] {
+        std::error_code ec;
+        auto it = fs::directory_iterator(daemon.store() / "uploads", ec);
+        return !ec && it != fs::directory_iterator();
+    };
+    for (int i = 0; i < 400 && !staged(); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    ASSERT_TRUE(staged());
+    std::thread release([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        partita::v1::UploadChunk rest;
+        rest.set_data("56789");
+        held->Write(rest);
+        held->WritesDone();
+        held->Finish();
+    });
+    TempDir dir;
+    RunResult r = partita(concat(
+        {"--server", daemon.address(), "render", kCornell, "--out", (dir / "up.exr").string()},
+        kTiny));
+    release.join();
+    ASSERT_EQ(r.exitCode, 0) << r.describe() << daemon.log();
+    EXPECT_NE(r.err.find("waiting to send the scene"), std::string::npos) << r.err;
+    expectResults(dir / "up.exr", 32, 24);
 }
 
 TEST(CliRender, DetachThenWatchThenGet) {

@@ -84,6 +84,7 @@ class Daemon {
                     const std::string& binary = PARTITAD_PATH);
     ~Daemon();
     const std::string& address() const { return address_; }
+    std::filesystem::path store() const { return dir_.path() / "store"; }
     std::string log() const;
 
   private:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from pathlib import Path
 from typing import Dict, Iterator, List, Optional, Sequence, Union
 
@@ -161,12 +162,20 @@ class Client:
         piece at a time; an upload no job names for the server's upload_ttl_seconds is
         removed."""
         source = scene if isinstance(scene, pb2.SceneSource) else scene_source(scene)
-        try:
-            response = self._stub.UploadScene(upload_chunks(source), timeout=3600,
-                                              metadata=self._metadata)
-        except grpc.RpcError as e:
-            raise from_rpc_error(e, "upload scene", self.address) from None
-        return response.upload_id
+        # A server receiving as many uploads as it takes (--max-upload-streams) is waited for,
+        # backing off to 5 s, for at most 10 minutes (the CLI's rule).
+        give_up, pause = time.monotonic() + 600, 0.25
+        while True:
+            try:
+                return self._stub.UploadScene(upload_chunks(source), timeout=3600,
+                                              metadata=self._metadata).upload_id
+            except grpc.RpcError as e:
+                busy = (e.code() == grpc.StatusCode.RESOURCE_EXHAUSTED
+                        and "--max-upload-streams" in (e.details() or ""))
+                if not busy or time.monotonic() + pause > give_up:
+                    raise from_rpc_error(e, "upload scene", self.address) from None
+            time.sleep(pause)
+            pause = min(pause * 2, 5.0)
 
     def check_parameters(self, algorithm: str, names) -> None:
         """Raises ValueError naming the first of `names` that `algorithm` does not declare on

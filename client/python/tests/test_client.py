@@ -92,6 +92,38 @@ class ClientTest(unittest.TestCase):
             self.client._call("SubmitJob", pb2.SubmitJobRequest(spec=spec), "submit")
         self.assertIn("upload the scene again", str(e.exception))
 
+    def test_an_upload_waits_while_the_server_receives_as_many_as_it_takes(self):
+        import threading
+        import time
+        # Hold all of the server's upload places (4) with streams that sent half their bytes.
+        release = threading.Event()
+
+        def held():
+            header = pb2.UploadHeader(format=pb2.SCENE_FORMAT_GLB, scene_bytes=10)
+            yield pb2.UploadChunk(header=header, data=b"01234")
+            release.wait(60)
+            yield pb2.UploadChunk(data=b"56789")
+
+        places = self.client.server_info().limits.max_upload_streams
+        uploads = self.daemon.store / "uploads"
+        before = set(uploads.iterdir())  # finished uploads of other tests stay until they expire
+        holders = [self.client._stub.UploadScene.future(held()) for _ in range(places)]
+        admitted = lambda: len(set(uploads.iterdir()) - before)
+        deadline = time.monotonic() + 20
+        while admitted() < places and time.monotonic() < deadline:
+            time.sleep(0.02)
+        self.assertEqual(admitted(), places, "the held streams are admitted")
+        result = {}
+        waiter = threading.Thread(target=lambda: result.update(id=self.client.upload(CORNELL)))
+        waiter.start()
+        waiter.join(1.0)
+        self.assertTrue(waiter.is_alive(), "the upload waits for a place")
+        release.set()
+        waiter.join(60)
+        self.assertRegex(result.get("id", ""), r"^[0-9a-f]{16}$")
+        for h in holders:
+            self.assertTrue(h.result(timeout=30).upload_id)
+
     def test_raw_final_preview_matches_result(self):
         job = self.client.submit("cornell", **TINY)
         frames = [e for e in self.client.watch(job, previews=True, raw=True)
