@@ -93,6 +93,9 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     app.add_option("--max-upload-streams", o.limits.maxUploadStreams,
                    "most UploadScene streams in flight at once")
         ->capture_default_str();
+    app.add_option("--upload-idle-seconds", o.limits.uploadIdleSeconds,
+                   "an upload that sends nothing for this long gives its place to one that waits")
+        ->capture_default_str();
     app.add_option("--upload-ttl-minutes", uploadTtlMinutes,
                    "an uploaded scene no job names for this long is removed, minutes")
         ->capture_default_str();
@@ -162,6 +165,10 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.uploadTtlSeconds = uploadTtlMinutes * 60;
+    if (!(o.limits.uploadIdleSeconds > 0) || o.limits.uploadIdleSeconds > 86400) {
+        std::fprintf(stderr, "partitad: --upload-idle-seconds must be in (0, 86400]\n");
+        return 2;
+    }
     if (!(rawPreviewMb >= 0) || rawPreviewMb > 65536) {
         std::fprintf(stderr, "partitad: --max-raw-preview-mb must be in [0, 65536]\n");
         return 2;

@@ -19,6 +19,7 @@ struct ServiceLimits {
     int64_t maxMessageBytes = int64_t(4) << 20;
     int maxUploadStreams = 4;        // UploadScene streams in flight at once
     double uploadTtlSeconds = 3600;  // a staged upload no job names is removed after this
+    double uploadIdleSeconds = 60;   // an upload silent this long may lose its place
     int maxQueuedJobs = 1000;
     int maxWatchersPerJob = 64;
     int maxWatchStreams = 1024;  // open WatchJob streams of all jobs together

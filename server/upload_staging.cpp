@@ -166,7 +166,7 @@ UploadWriter::~UploadWriter() {
         std::error_code ec;
         fs::remove_all(staging_.folder(id_), ec);
     }
-    staging_.ended(reserved_);
+    staging_.ended(this, reserved_);
 }
 
 grpc::Status UploadWriter::openFile() {
@@ -195,6 +195,7 @@ grpc::Status UploadWriter::write(const char* data, size_t size) {
 }
 
 grpc::Status UploadWriter::append(const std::string& data) {
+    if (grpc::Status s = staging_.touch(*this); !s.ok()) return s;
     size_t at = 0;
     for (;;) {
         const bool more = at < data.size();
@@ -222,6 +223,7 @@ grpc::Status UploadWriter::append(const std::string& data) {
 grpc::Status UploadWriter::finish(pb::UploadSceneResponse& out) {
     // Trailing empty resources have no bytes to wait for: write their prefixes.
     if (grpc::Status s = append(""); !s.ok()) return s;
+    if (grpc::Status s = staging_.touch(*this, true); !s.ok()) return s;
     if (leftInSegment_ > 0 || segment_ < segments_.size())
         return invalid("the upload ended before all the bytes its header declared (" +
                        std::to_string(declared_) + ") arrived");
@@ -270,21 +272,38 @@ grpc::Status UploadStaging::begin(const pb::UploadHeader& header,
     uint64_t total = 0;
     if (grpc::Status s = checkHeader(header, limits_, total); !s.ok()) return s;
     std::string id;
+    std::vector<std::pair<std::string, uint64_t>> freed;
+    const auto now = std::chrono::steady_clock::now();
+    grpc::Status admitted = grpc::Status::OK;
     {
         std::lock_guard lock(mutex_);
-        expireLocked(std::chrono::steady_clock::now());
+        expireLocked(now);
+        if (inFlight_ >= limits_.maxUploadStreams) reclaimIdleLocked(now, freed);
         if (inFlight_ >= limits_.maxUploadStreams)
-            return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-                    "this server is already receiving " + std::to_string(inFlight_) +
-                        " uploads, its limit (--max-upload-streams); try again when one ends"};
-        ++inFlight_;
-        id = newId();
+            admitted = {grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "this server is already receiving " + std::to_string(inFlight_) +
+                            " uploads, its limit (--max-upload-streams); try again when one ends"};
+        else
+            ++inFlight_, id = newId();
     }
+    for (const auto& [idle, reserved] : freed) {
+        spdlog::warn("upload {} dropped: nothing received for {} s while another waited", idle,
+                     limits_.uploadIdleSeconds);
+        if (reserved > 0) release_(reserved);
+        std::error_code ec;
+        fs::remove_all(folder(idle), ec);
+    }
+    if (!admitted.ok()) return admitted;
     if (grpc::Status s = reserve_(total); !s.ok()) {
-        ended(0);
+        ended(nullptr, 0);
         return s;
     }
     out.reset(new UploadWriter(*this, id, header, total));
+    {
+        std::lock_guard lock(mutex_);
+        out->lastActivity_ = now;
+        active_.insert(out.get());
+    }
     // The file exists from admission on: an upload in flight is visible in the store.
     if (grpc::Status s = out->openFile(); !s.ok()) {
         out.reset();
@@ -293,10 +312,42 @@ grpc::Status UploadStaging::begin(const pb::UploadHeader& header,
     return grpc::Status::OK;
 }
 
-void UploadStaging::ended(uint64_t reserved) {
-    if (reserved > 0) release_(reserved);
+void UploadStaging::reclaimIdleLocked(std::chrono::steady_clock::time_point now,
+                                      std::vector<std::pair<std::string, uint64_t>>& freed) {
+    const auto idle = std::chrono::duration<double>(limits_.uploadIdleSeconds);
+    for (auto it = active_.begin(); it != active_.end();) {
+        UploadWriter* w = *it;
+        if (w->finishing_ || now - w->lastActivity_ < idle) {
+            ++it;
+            continue;
+        }
+        w->abandoned_ = true;
+        freed.emplace_back(w->id_, w->reserved_);
+        it = active_.erase(it);
+        --inFlight_;
+    }
+}
+
+grpc::Status UploadStaging::touch(UploadWriter& writer, bool finishing) {
     std::lock_guard lock(mutex_);
-    --inFlight_;
+    if (writer.abandoned_)
+        return {grpc::StatusCode::ABORTED,
+                "this upload sent nothing for " + fmt::format("{}", limits_.uploadIdleSeconds) +
+                    " s while another waited for its place (--upload-idle-seconds): it was "
+                    "dropped; upload the scene again"};
+    writer.lastActivity_ = std::chrono::steady_clock::now();
+    writer.finishing_ = writer.finishing_ || finishing;
+    return grpc::Status::OK;
+}
+
+void UploadStaging::ended(UploadWriter* writer, uint64_t reserved) {
+    {
+        std::lock_guard lock(mutex_);
+        if (writer && writer->abandoned_) return;  // its place and bytes were given back then
+        if (writer) active_.erase(writer);
+        --inFlight_;
+    }
+    if (reserved > 0) release_(reserved);
 }
 
 void UploadStaging::publish(std::shared_ptr<StagedUpload> upload) {

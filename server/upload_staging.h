@@ -6,6 +6,8 @@
 // Memory: an upload in flight holds one received message, never the scene; at most
 // limits.maxUploadStreams are in flight (RESOURCE_EXHAUSTED beyond, at the header), and the bytes
 // the header declares are reserved against the store limit before any arrive.
+// A stalled upload (nothing received for limits.uploadIdleSeconds) loses its place, and its store
+// reservation, to the next upload that finds every place taken; its next message is refused.
 // Lifetime: an upload no job has named for limits.uploadTtlSeconds is removed (checked whenever an
 // upload starts or a job names one); the staging folder is emptied when partitad starts.
 #pragma once
@@ -19,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -101,6 +104,10 @@ class UploadWriter {
     uint64_t written_ = 0;        // bytes of upload.pb so far
     int fd_ = -1;
     bool finished_ = false;
+    // Guarded by the staging's mutex:
+    std::chrono::steady_clock::time_point lastActivity_;
+    bool abandoned_ = false;  // its place was given to another upload
+    bool finishing_ = false;  // past its last byte: never abandoned
 };
 
 class UploadStaging {
@@ -128,7 +135,15 @@ class UploadStaging {
     friend class UploadWriter;
     std::filesystem::path folder(const std::string& id) const { return dir_ / id; }
     void publish(std::shared_ptr<StagedUpload> upload);
-    void ended(uint64_t reserved);  // a writer is done, finished or not
+    /// A writer is done, finished or not (null: admission failed before it existed).
+    void ended(UploadWriter* writer, uint64_t reserved);
+    /// A writer received something (or, `finishing`, its last byte): ABORTED when its place was
+    /// given away meanwhile.
+    grpc::Status touch(UploadWriter& writer, bool finishing = false);
+    /// Every place is taken: takes back those of writers idle for uploadIdleSeconds; their ids
+    /// and reservations in `freed`, for the caller to release outside the lock.
+    void reclaimIdleLocked(std::chrono::steady_clock::time_point now,
+                           std::vector<std::pair<std::string, uint64_t>>& freed);
     void expireLocked(std::chrono::steady_clock::time_point now);
     std::string newId();
 
@@ -138,6 +153,7 @@ class UploadStaging {
     Release release_;
     mutable std::mutex mutex_;
     int inFlight_ = 0;
+    std::set<UploadWriter*> active_;  // admitted writers that still hold their place
     struct Entry {
         std::shared_ptr<StagedUpload> upload;
         std::chrono::steady_clock::time_point lastUsed;

@@ -212,6 +212,52 @@ TEST(UploadScene, UploadsInFlightAreBoundedInNumberAndByTheStoreLimit) {
     EXPECT_FALSE(open[1].stream->Finish().ok());
 }
 
+TEST(UploadScene, AStalledUploadGivesItsPlaceToOneThatWaits) {
+    TempDir store;
+    Daemon daemon(store.path(), {"--max-upload-streams", "1", "--upload-idle-seconds", "2"});
+    ASSERT_TRUE(daemon.running());
+    auto stub = daemon.stub();
+    pb::UploadHeader header;
+    header.set_format(pb::SCENE_FORMAT_GLB);
+    header.set_scene_bytes(10);
+    // A client that sends its header and half its bytes, then nothing.
+    auto ctx = context(120s);
+    pb::UploadSceneResponse response;
+    auto stalled = stub->UploadScene(ctx.get(), &response);
+    pb::UploadChunk chunk;
+    *chunk.mutable_header() = header;
+    chunk.set_data("01234");
+    ASSERT_TRUE(stalled->Write(chunk));
+    const auto sent = std::chrono::steady_clock::now();
+    for (int i = 0; i < 400 && entriesIn(store.path() / "uploads") < 1; ++i)
+        std::this_thread::sleep_for(25ms);
+    ASSERT_EQ(entriesIn(store.path() / "uploads"), 1u);
+    // While it is not yet idle, its place is taken (checked only when the check itself started
+    // in time: the answer would rightly differ on a machine slower than that).
+    Uploaded early = sendUpload(*stub, header, {"0123456789"});
+    if (std::chrono::steady_clock::now() - sent < 2s)
+        EXPECT_EQ(early.status.error_code(), Code::RESOURCE_EXHAUSTED);
+    else
+        ASSERT_TRUE(early.status.ok()) << early.status.error_message();
+    std::this_thread::sleep_until(sent + 2200ms);
+    // Idle past --upload-idle-seconds: the next upload gets its place, its files are gone.
+    Uploaded next = sendUpload(*stub, header, {"0123456789"});
+    ASSERT_TRUE(next.status.ok()) << next.status.error_message();
+    // The stalled upload's partial file is gone (finished uploads keep theirs).
+    std::error_code ec;
+    for (const auto& e : fs::recursive_directory_iterator(store.path() / "uploads", ec))
+        EXPECT_NE(e.path().filename(), "upload.pb.part") << e.path();
+    // The stalled client's next message is refused.
+    pb::UploadChunk rest;
+    rest.set_data("56789");
+    if (stalled->Write(rest)) stalled->WritesDone();
+    grpc::Status status = stalled->Finish();
+    EXPECT_EQ(status.error_code(), Code::ABORTED) << status.error_message();
+    EXPECT_NE(status.error_message().find("--upload-idle-seconds"), std::string::npos);
+    EXPECT_EQ(sendUpload(*stub, header, {"0123456789"}).status.error_code(), Code::OK)
+        << "the place is free again";
+}
+
 TEST(UploadScene, AnUploadNoJobNamesExpires) {
     TempDir store;
     Daemon daemon(store.path(), {"--upload-ttl-minutes", "0.02"});  // 1.2 s
