@@ -15,6 +15,7 @@
 #include "gltf/resource_resolver.h"
 #include "job_memory.h"
 #include "text.h"
+#include "validation.h"
 
 namespace partita::server {
 
@@ -51,24 +52,12 @@ grpc::Status checkHeader(const pb::UploadHeader& h, const ServiceLimits& limits,
     total = uint64_t(h.scene_bytes());
     std::set<std::string> seen;
     for (const auto& r : h.resources()) {
-        // The staged file is a SceneSource, whose uri is a proto3 string: UTF-8 or unreadable.
-        if (!isValidUtf8(r.uri()))
-            return invalid("uploaded resource '" + quoteInput(r.uri(), 64) +
-                           "' refused: its uri is not valid UTF-8");
-        if (std::string why = checkRelativeUri(r.uri()); !why.empty())
-            return invalid("uploaded resource '" + printableUri(r.uri()) + "' refused: " + why);
-        if (!seen.insert(r.uri()).second)
-            return invalid("resource '" + printableUri(r.uri()) + "' is uploaded twice");
+        if (grpc::Status s = checkUploadedUri(r.uri(), seen); !s.ok()) return s;
         if (r.size() < 0)
             return invalid("resource '" + printableUri(r.uri()) + "' has a negative size");
-        total += uint64_t(r.size()) + r.uri().size();
+        total += uint64_t(r.size()) + r.uri().size();  // as SceneSource::uploadBytes counts
     }
-    if (total > uint64_t(limits.maxUploadBytes))
-        return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-                "the uploaded scene has " + std::to_string(total) +
-                    " bytes, over this server's limit of " + std::to_string(limits.maxUploadBytes) +
-                    " (--max-upload-mb)"};
-    return grpc::Status::OK;
+    return checkUploadSize(total, limits);
 }
 
 }  // namespace
@@ -132,7 +121,7 @@ UploadWriter::UploadWriter(UploadStaging& staging, std::string id, const pb::Upl
                            uint64_t reserved)
     : staging_(staging), id_(std::move(id)), format_(h.format()), reserved_(reserved) {
     const uint64_t scene = uint64_t(h.scene_bytes());
-    declared_ = scene;
+    declared_ = reserved;  // checkHeader's total: every file and resource uri
     if (format_ == pb::SCENE_FORMAT_GLB) {
         segments_.push_back({fieldStart(pb::SceneSource::kGlbFieldNumber, scene), scene});
         return;
@@ -144,7 +133,6 @@ UploadWriter::UploadWriter(UploadStaging& staging, std::string id, const pb::Upl
         uint64_t m = fieldBytes(r.uri().size()) + fieldBytes(uint64_t(r.size()));
         resourceMessages.push_back(m);
         gltfMessage += fieldBytes(m);
-        declared_ += uint64_t(r.size()) + r.uri().size();
     }
     segments_.push_back({fieldStart(pb::SceneSource::kGltfFieldNumber, gltfMessage) +
                              fieldStart(pb::GltfUpload::kGltfFieldNumber, scene),

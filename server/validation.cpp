@@ -70,25 +70,34 @@ grpc::Status checkScene(const pb::SceneSource& scene, const ServiceLimits& limit
         case pb::SceneSource::kGltf: {
             if (scene.gltf().gltf().empty()) return invalid("the uploaded glTF is empty");
             std::set<std::string> seen;
-            for (const auto& r : scene.gltf().resources()) {
-                if (std::string why = checkRelativeUri(r.uri()); !why.empty())
-                    return invalid("uploaded resource '" + printableUri(r.uri()) +
-                                   "' refused: " + why);
-                if (!seen.insert(r.uri()).second)
-                    return invalid("resource '" + printableUri(r.uri()) + "' is uploaded twice");
-            }
+            for (const auto& r : scene.gltf().resources())
+                if (grpc::Status st = checkUploadedUri(r.uri(), seen); !st.ok()) return st;
             break;
         }
     }
-    uint64_t bytes = SceneSource::uploadBytes(scene);
-    if (bytes > uint64_t(limits.maxUploadBytes))
-        return exhausted("the uploaded scene has " + std::to_string(bytes) +
-                         " bytes, over this server's limit of " +
-                         std::to_string(limits.maxUploadBytes) + " (--max-upload-mb)");
-    return grpc::Status::OK;
+    return checkUploadSize(SceneSource::uploadBytes(scene), limits);
 }
 
 }  // namespace
+
+grpc::Status checkUploadedUri(const std::string& uri, std::set<std::string>& seen) {
+    // A stored upload is a SceneSource, whose uri is a proto3 string: UTF-8 or unreadable.
+    if (!isValidUtf8(uri))
+        return invalid("uploaded resource '" + quoteInput(uri, 64) +
+                       "' refused: its uri is not valid UTF-8");
+    if (std::string why = checkRelativeUri(uri); !why.empty())
+        return invalid("uploaded resource '" + printableUri(uri) + "' refused: " + why);
+    if (!seen.insert(uri).second)
+        return invalid("resource '" + printableUri(uri) + "' is uploaded twice");
+    return grpc::Status::OK;
+}
+
+grpc::Status checkUploadSize(uint64_t bytes, const ServiceLimits& limits) {
+    if (bytes <= uint64_t(limits.maxUploadBytes)) return grpc::Status::OK;
+    return exhausted("the uploaded scene has " + std::to_string(bytes) +
+                     " bytes, over this server's limit of " +
+                     std::to_string(limits.maxUploadBytes) + " (--max-upload-mb)");
+}
 
 grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
                              ValidatedSpec& out) {

@@ -8,6 +8,7 @@
 #include <grpcpp/support/status.h>
 
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,12 @@ struct ValidatedSpec {
 /// pixel, RenderSettings' defaults for everything else.
 grpc::Status validateJobSpec(const pb::JobSpec& spec, const ServiceLimits& limits,
                              ValidatedSpec& out);
+
+/// The checks every upload's files pass, sent inside SubmitJob or streamed (upload_staging.h): a
+/// resource uri is UTF-8, relative and inside the scene's folder, and given once (`seen` holds
+/// the uris before it); all files together are within --max-upload-mb (RESOURCE_EXHAUSTED).
+grpc::Status checkUploadedUri(const std::string& uri, std::set<std::string>& seen);
+grpc::Status checkUploadSize(uint64_t bytes, const ServiceLimits& limits);
 
 /// validateJobSpec without the scene checks: for a stored spec (whose scene bytes live in the
 /// store) when the job runs.

@@ -36,6 +36,28 @@ size_t entriesIn(const fs::path& dir) {
     return n;
 }
 
+/// An upload that sent its header and its first bytes, then waits, holding its place.
+struct HeldUpload {
+    std::unique_ptr<grpc::ClientContext> ctx = context(120s);
+    pb::UploadSceneResponse response;
+    std::unique_ptr<grpc::ClientWriter<pb::UploadChunk>> stream;
+
+    HeldUpload(pb::Partita::Stub& stub, const pb::UploadHeader& header, const std::string& data) {
+        stream = stub.UploadScene(ctx.get(), &response);
+        pb::UploadChunk chunk;
+        *chunk.mutable_header() = header;
+        chunk.set_data(data);
+        EXPECT_TRUE(stream->Write(chunk));
+    }
+};
+
+/// Waits (at most 10 s) until `uploads` holds `n` entries: an admitted upload has its folder
+/// from its header on. Returns the count then.
+size_t waitForEntries(const fs::path& uploads, size_t n) {
+    for (int i = 0; i < 400 && entriesIn(uploads) < n; ++i) std::this_thread::sleep_for(25ms);
+    return entriesIn(uploads);
+}
+
 TEST(UploadScene, AStreamedGltfIsStoredAsSentAndRendersLikeTheNamedSceneForEveryJob) {
     TempDir store;
     Daemon daemon(store.path());
@@ -171,23 +193,10 @@ TEST(UploadScene, UploadsInFlightAreBoundedInNumberAndByTheStoreLimit) {
     pb::UploadHeader header;
     header.set_format(pb::SCENE_FORMAT_GLB);
     header.set_scene_bytes(1000);
-    struct Open {
-        std::unique_ptr<grpc::ClientContext> ctx = context(120s);
-        pb::UploadSceneResponse response;
-        std::unique_ptr<grpc::ClientWriter<pb::UploadChunk>> stream;
-    };
-    std::vector<Open> open(2);
-    for (Open& o : open) {
-        o.stream = stub->UploadScene(o.ctx.get(), &o.response);
-        pb::UploadChunk chunk;
-        *chunk.mutable_header() = header;
-        chunk.set_data(std::string(500, 'x'));
-        ASSERT_TRUE(o.stream->Write(chunk));
-    }
-    // Admitted uploads have their file in the store from the header on.
-    for (int i = 0; i < 400 && entriesIn(store.path() / "uploads") < 2; ++i)
-        std::this_thread::sleep_for(25ms);
-    ASSERT_EQ(entriesIn(store.path() / "uploads"), 2u);
+    std::vector<std::unique_ptr<HeldUpload>> open;
+    for (int i = 0; i < 2; ++i)
+        open.push_back(std::make_unique<HeldUpload>(*stub, header, std::string(500, 'x')));
+    ASSERT_EQ(waitForEntries(store.path() / "uploads", 2), 2u);
     Uploaded third = sendUpload(*stub, header, {std::string(1000, 'x')});
     EXPECT_EQ(third.status.error_code(), Code::RESOURCE_EXHAUSTED);
     EXPECT_NE(third.status.error_message().find("--max-upload-streams"), std::string::npos)
@@ -196,9 +205,9 @@ TEST(UploadScene, UploadsInFlightAreBoundedInNumberAndByTheStoreLimit) {
     // A finished upload frees its place.
     pb::UploadChunk rest;
     rest.set_data(std::string(500, 'x'));
-    ASSERT_TRUE(open[0].stream->Write(rest));
-    open[0].stream->WritesDone();
-    ASSERT_TRUE(open[0].stream->Finish().ok());
+    ASSERT_TRUE(open[0]->stream->Write(rest));
+    open[0]->stream->WritesDone();
+    ASSERT_TRUE(open[0]->stream->Finish().ok());
     EXPECT_TRUE(sendUpload(*stub, header, {std::string(1000, 'x')}).status.ok());
 
     // The declared bytes are reserved against the store limit before any arrive.
@@ -208,8 +217,8 @@ TEST(UploadScene, UploadsInFlightAreBoundedInNumberAndByTheStoreLimit) {
     EXPECT_EQ(refused.status.error_code(), Code::RESOURCE_EXHAUSTED);
     EXPECT_NE(refused.status.error_message().find("--max-store-mb"), std::string::npos)
         << refused.status.error_message();
-    open[1].ctx->TryCancel();
-    EXPECT_FALSE(open[1].stream->Finish().ok());
+    open[1]->ctx->TryCancel();
+    EXPECT_FALSE(open[1]->stream->Finish().ok());
 }
 
 TEST(UploadScene, AStalledUploadGivesItsPlaceToOneThatWaits) {
@@ -221,17 +230,9 @@ TEST(UploadScene, AStalledUploadGivesItsPlaceToOneThatWaits) {
     header.set_format(pb::SCENE_FORMAT_GLB);
     header.set_scene_bytes(10);
     // A client that sends its header and half its bytes, then nothing.
-    auto ctx = context(120s);
-    pb::UploadSceneResponse response;
-    auto stalled = stub->UploadScene(ctx.get(), &response);
-    pb::UploadChunk chunk;
-    *chunk.mutable_header() = header;
-    chunk.set_data("01234");
-    ASSERT_TRUE(stalled->Write(chunk));
+    HeldUpload stalled(*stub, header, "01234");
     const auto sent = std::chrono::steady_clock::now();
-    for (int i = 0; i < 400 && entriesIn(store.path() / "uploads") < 1; ++i)
-        std::this_thread::sleep_for(25ms);
-    ASSERT_EQ(entriesIn(store.path() / "uploads"), 1u);
+    ASSERT_EQ(waitForEntries(store.path() / "uploads", 1), 1u);
     // While it is not yet idle, its place is taken (checked only when the check itself started
     // in time: the answer would rightly differ on a machine slower than that).
     Uploaded early = sendUpload(*stub, header, {"0123456789"});
@@ -250,8 +251,8 @@ TEST(UploadScene, AStalledUploadGivesItsPlaceToOneThatWaits) {
     // The stalled client's next message is refused.
     pb::UploadChunk rest;
     rest.set_data("56789");
-    if (stalled->Write(rest)) stalled->WritesDone();
-    grpc::Status status = stalled->Finish();
+    if (stalled.stream->Write(rest)) stalled.stream->WritesDone();
+    grpc::Status status = stalled.stream->Finish();
     EXPECT_EQ(status.error_code(), Code::ABORTED) << status.error_message();
     EXPECT_NE(status.error_message().find("--upload-idle-seconds"), std::string::npos);
     EXPECT_EQ(sendUpload(*stub, header, {"0123456789"}).status.error_code(), Code::OK)
