@@ -37,6 +37,9 @@
 #endif
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <emmintrin.h>
+#endif
 #include <functional>
 #include <map>
 #include <mutex>
@@ -56,8 +59,17 @@ constexpr int kTilePixels = Film::kTileSize * Film::kTileSize;
 struct FixedRgb {
     std::array<uint64_t, 3> c{};
 
+    /// v on the grid, rounded to nearest (ties to even, the default rounding mode). Film::Pixel
+    /// bounds |v| first, so the product fits an int64.
     static uint64_t toFixed(float v) {
-        return uint64_t(std::llrint(double(v) * double(uint64_t(1) << Film::kFixedPointBits)));
+        const double scaled = double(v) * double(uint64_t(1) << Film::kFixedPointBits);
+#if defined(__SSE2__) && defined(__x86_64__)
+        // What llrint computes, as one instruction: without -fno-math-errno the compiler calls
+        // libm's llrint (through the PLT, three times a sample) in case it must set errno.
+        return uint64_t(_mm_cvtsd_si64(_mm_set_sd(scaled)));
+#else
+        return uint64_t(std::llrint(scaled));
+#endif
     }
     static FixedRgb of(Rgb v) { return {{toFixed(v.x), toFixed(v.y), toFixed(v.z)}}; }
     FixedRgb& operator+=(const FixedRgb& o) {

@@ -10,9 +10,10 @@
 // (the RMSE against the true image, over the image's mean: what `partita-eval quality` measures
 // against a long reference, divided by the reference's mean).
 //
-// It keeps only the combined sums: the previous run's and half A's (two float images), from
-// the film's unscaled combined sums after each run of samples of one half
-// (Film::resolveCombined(1)). Only valid for independent samples (pt, bdpt): successive rounds
+// It keeps only the combined sums: the whole's and half A's (two float images), either from
+// the film's unscaled combined sums after each run of samples of one half (addRun:
+// Film::resolveCombined(1)) or from the film's and a film of the odd indices alone
+// (setInterleaved). Only valid for independent samples (pt, bdpt): successive rounds
 // of a Markov chain are not.
 #pragma once
 
@@ -59,6 +60,10 @@ class HalfSplitError {
     /// The film's unscaled combined sums after a run of `samples` samples per pixel, all of
     /// half A (`halfA`) or all of half B.
     void addRun(const Image& sums, uint64_t samples, bool halfA);
+    /// The halves of samples interleaved by index (replacing any runs): `totalSums`, the film's
+    /// unscaled combined sums of sample indices [0, samples), and `oddSums`, those of its odd
+    /// indices (half B; half A is the rest).
+    void setInterleaved(const Image& totalSums, const Image& oddSums, uint64_t samples);
 
     uint64_t samplesA() const { return samplesA_; }
     uint64_t samplesB() const { return samplesB_; }

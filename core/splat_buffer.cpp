@@ -33,7 +33,7 @@ void SplatBuffer::sortByPixel() {
     for (const PixelSplat& s : splats_) sorted_[starts_[s.pixel]++] = s;
 }
 
-void SplatBuffer::flushInto(Film& film) {
+void SplatBuffer::flushInto(Film& film, Film* also) {
     if (splats_.empty()) return;
     sortByPixel();
     // Per pixel, per type (in order of first appearance), a double sum; one film add each.
@@ -55,8 +55,11 @@ void SplatBuffer::flushInto(Film& film) {
             for (int k = 0; k < 3; ++k) t->sum[size_t(k)] += double(s.value[k]);
         }
         int x = int(pixel % uint32_t(width_)), y = int(pixel / uint32_t(width_));
-        for (const TypeSum& t : sums)
-            film.addSample(x, y, t.type, Rgb(float(t.sum[0]), float(t.sum[1]), float(t.sum[2])));
+        for (const TypeSum& t : sums) {
+            const Rgb value(float(t.sum[0]), float(t.sum[1]), float(t.sum[2]));
+            film.addSample(x, y, t.type, value);
+            if (also) also->addSample(x, y, t.type, value);
+        }
         begin = end;
     }
     splats_.clear();

@@ -29,8 +29,9 @@ class SplatBuffer {
 
     /// `value` at raster position r, spread by the tent filter (tent_filter.h).
     void addTent(Vec2f r, PathType type, Rgb value);
-    /// Adds the buffered splats to `film` (see above) and empties the buffer.
-    void flushInto(Film& film);
+    /// Adds the buffered splats to `film` (see above), and the same sums to `also` when given
+    /// (a combined-only film of the same size), and empties the buffer.
+    void flushInto(Film& film, Film* also = nullptr);
     size_t size() const { return splats_.size(); }
 
   private:

@@ -43,8 +43,10 @@ int partitionsOf(const RenderSettings& s) {
     return partitionedParameters().resolve(s.parameters).k;
 }
 
-/// Films an algorithm holds at once: pt and bdpt one (bdpt's light tracing splats into its
-/// camera film), partitioned and guided two per partition group (K and the complement), which
+/// Films an algorithm holds at once: pt and bdpt two (bdpt's light tracing splats into its
+/// camera film), the second the combined sums of the odd sample indices (the error estimate's
+/// half B, sample_passes.h), whose estimate keeps two images more (12 bytes a pixel each,
+/// half_split_error.h), partitioned and guided two per partition group (K and the complement), which
 /// keep no type layers: its chains' and its odd chains' (the error estimate,
 /// mcmc/chain_runner.h's PerGroupWithHalves). mlt two: the chains' (with the type layers) and
 /// the odd half's combined image; with the direct light per pixel (its default) four: and the
@@ -53,7 +55,7 @@ int partitionsOf(const RenderSettings& s) {
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
     if (hasPartitions(algorithm)) return 2 * (std::max(0, partitionsOf(s)) + 1);
     if (algorithm == "mlt") return mltParameters().resolve(s.parameters).direct != "chains" ? 4 : 2;
-    return 1;
+    return 2;
 }
 
 /// Type buffers a pixel of the film may hold: the kept types and "other" (none for the
@@ -176,13 +178,15 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         s.previewIntervalSeconds > 0
             ? kPreviewFrames * layers * pixels * (kImageLayer + kPng) + kRawCopies * raw
             : 0;
-    double images = preview + std::max(0.0, finalImage - film);
+    const bool samplePasses = algorithm == "pt" || algorithm == "bdpt";
+    double errorImages = samplePasses ? 2 * pixels * kImageLayer : 0;
+    double images = preview + errorImages + std::max(0.0, finalImage - film);
     double parts = partitions * pixels * kPartition;
     double scene = kSceneFactor * double(sceneBytes);
     double splats = algorithm == "bdpt" ? bdptExtraBytes(pixels) : 0;
     // pt's and bdpt's layer survey (integrators/layer_survey.h): a film of every type over at
     // most kSurveyPixels pixels, allowed 128 type buffers a pixel.
-    double survey = (algorithm == "pt" || algorithm == "bdpt") && typeLayers > 0
+    double survey = samplePasses && typeLayers > 0
                         ? std::min(pixels, double(kSurveyPixels)) * kSum * 128
                         : 0;
     MltExtra mlt{0, 0};

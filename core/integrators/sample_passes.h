@@ -41,9 +41,14 @@ class SamplePassRenderer {
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).
     virtual uint64_t maxPassSamples() const { return 1024; }
-    /// The film's combined sums so far, unscaled (Film::resolveCombined(1)): the error estimate's
-    /// input after each pass (half_split_error.h).
+    /// From now on, also sum the odd sample indices' contributions apart, in a combined-only
+    /// film: the error estimate's half B (half_split_error.h). Called by the sample-pass loop
+    /// before its first pass; shards and surveys, which estimate no error, never pay for it.
+    virtual void keepOddHalf() = 0;
+    /// The film's combined sums so far, unscaled (Film::resolveCombined(1)), and those of its
+    /// odd sample indices (after keepOddHalf): the error estimate's input after each pass.
     virtual Image combinedSums() const = 0;
+    virtual Image oddHalfSums() const = 0;
     /// A copy of everything rendered so far as one film (resolve(n) is film().resolve(1/n)).
     virtual Film film() const = 0;
     /// film(), moving it out where the renderer keeps it as one (a finished shard's result).

@@ -53,6 +53,14 @@ LayeredImage BdptPasses::takeResolved(uint64_t samples, ThreadPool* pool) {
     return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
 }
 
+void BdptPasses::keepOddHalf() {
+    if (!oddHalf_) oddHalf_.emplace(film_.width(), film_.height(), TypeLayers::of({}));
+}
+
+Image BdptPasses::oddHalfSums() const {
+    return oddHalf_ ? oddHalf_->resolveCombined(1.0f) : Image(film_.width(), film_.height());
+}
+
 Film BdptPasses::film() const {
     Film copy(film_.width(), film_.height(), film_.layers());
     copy.merge(film_);
@@ -81,7 +89,10 @@ void BdptPasses::renderTile(int x0, int y0, int x1, int y1, SampleRange range, T
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 Film::Pixel pixel = film_.pixel(x, y);
-                renderSample(x, y, s, pixel, connector, scratch, out.splats);
+                std::optional<Film::Pixel> oddPixel;
+                if (oddHalf_ && (s & 1)) oddPixel.emplace(oddHalf_->pixel(x, y));
+                renderSample(x, y, s, pixel, oddPixel ? &*oddPixel : nullptr, connector, scratch,
+                             out.splats);
             }
         out.sampleStarts.push_back(uint32_t(out.splats.size()));
     }
@@ -89,7 +100,8 @@ void BdptPasses::renderTile(int x0, int y0, int x1, int y1, SampleRange range, T
 }
 
 void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
-                              Connector& connector, Scratch& scratch, std::vector<Splat>& splats) {
+                              Film::Pixel* oddPixel, Connector& connector, Scratch& scratch,
+                              std::vector<Splat>& splats) {
     Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), sample);
     Vec2f u{rng.nextFloat(), rng.nextFloat()};
     Ray primary = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
@@ -111,8 +123,10 @@ void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
             Rgb value = c.value * c.weight;
             if (t == 1)
                 splats.push_back({c.raster, c.type, value});
-            else
+            else {
                 pixel.add(c.type, value);
+                if (oddPixel) oddPixel->add(c.type, value);
+            }
         }
 }
 
@@ -130,7 +144,8 @@ void BdptPasses::addSplats(SampleRange range, size_t first, size_t end) {
                 splatBuffer_.addTent(sp.raster, sp.type, sp.value);
             }
         }
-        splatBuffer_.flushInto(film_);
+        const bool odd = oddHalf_ && ((range.first + i) & 1);
+        splatBuffer_.flushInto(film_, odd ? &*oddHalf_ : nullptr);
     }
     for (size_t t = first; t < end; ++t) tiles_[t] = TileSplats{};
 }

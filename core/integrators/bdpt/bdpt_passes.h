@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "algorithm.h"
@@ -38,7 +39,9 @@ class BdptPasses : public SamplePassRenderer {
     void renderPass(SampleRange range, ProgressReporter& progress) override;
     LayeredImage resolve(uint64_t samples, ThreadPool* pool) const override;
     LayeredImage takeResolved(uint64_t samples, ThreadPool* pool) override;
+    void keepOddHalf() override;
     Image combinedSums() const override { return film_.resolveCombined(1.0f); }
+    Image oddHalfSums() const override;
     Film film() const override;
     Film takeFilm() override { return std::move(film_); }
     void addStats(RenderStats& st, double seconds) const override;
@@ -68,8 +71,9 @@ class BdptPasses : public SamplePassRenderer {
     };
 
     void renderTile(int x0, int y0, int x1, int y1, SampleRange range, TileSplats& out);
-    void renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel, Connector& connector,
-                      Scratch& scratch, std::vector<Splat>& splats);
+    /// `oddPixel`: the pixel in the odd half's film for an odd sample (keepOddHalf), else null.
+    void renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel, Film::Pixel* oddPixel,
+                      Connector& connector, Scratch& scratch, std::vector<Splat>& splats);
     bool wanted(int s, int t) const;
     /// The splats of tiles [first, end), sample by sample and within a sample tile by tile:
     /// the same order whatever the threads did and however the budget was split into passes.
@@ -84,6 +88,7 @@ class BdptPasses : public SamplePassRenderer {
     // Camera-side samples (per tile, from the pass's threads) and light-tracing splats (after
     // the pass, serially) go into the one film: its sums are exact, so the order is immaterial.
     Film film_;
+    std::optional<Film> oddHalf_;  // the odd sample indices' combined sums (keepOddHalf)
     SplatBuffer splatBuffer_;
     std::vector<TileSplats> tiles_;
     std::atomic<uint64_t> rays_{0};

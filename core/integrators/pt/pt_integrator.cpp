@@ -57,7 +57,13 @@ class PathTracerPasses : public SamplePassRenderer {
         return film_.takeResolved(1.0f / float(samples), ctx_.settings.maxTypeLayers, pool);
     }
 
+    void keepOddHalf() override {
+        if (!oddHalf_) oddHalf_.emplace(film_.width(), film_.height(), TypeLayers::of({}));
+    }
     Image combinedSums() const override { return film_.resolveCombined(1.0f); }
+    Image oddHalfSums() const override {
+        return oddHalf_ ? oddHalf_->resolveCombined(1.0f) : Image(film_.width(), film_.height());
+    }
 
     Film film() const override {
         Film copy(film_.width(), film_.height(), film_.layers());
@@ -85,13 +91,15 @@ class PathTracerPasses : public SamplePassRenderer {
     void renderPixelRun(int x, int y, int n, SampleRange range, PathCounters& counters) {
         std::array<std::optional<FilmSink>, kPacketWidth> sinks;
         for (int i = 0; i < n; ++i)
-            sinks[size_t(i)].emplace(film_, x + i, y, key_ ? &key_ : nullptr);
+            sinks[size_t(i)].emplace(film_, x + i, y, key_ ? &key_ : nullptr,
+                                     oddHalf_ ? &*oddHalf_ : nullptr);
         std::array<Rng, kPacketWidth> rngs;
         std::array<Ray, kPacketWidth> rays;
         std::array<SurfaceHit, kPacketWidth> hits;
         bool found[kPacketWidth];
         for (uint64_t s = range.first; s < range.end; ++s) {
             for (int i = 0; i < n; ++i) {
+                sinks[size_t(i)]->selectSample(s);
                 rngs[size_t(i)] = pixelSampleRng(ctx_.settings.seed, x + i, y, film_.width(), s);
                 Vec2f u{rngs[size_t(i)].nextFloat(), rngs[size_t(i)].nextFloat()};
                 rays[size_t(i)] = ctx_.camera.generateRay(filteredRasterPosition(x + i, y, u));
@@ -111,6 +119,7 @@ class PathTracerPasses : public SamplePassRenderer {
     const RenderContext& ctx_;
     ContributionKey key_;
     Film film_;
+    std::optional<Film> oddHalf_;  // the odd sample indices' combined sums (keepOddHalf)
     PathSamplerSettings samplerSettings_;
     std::atomic<uint64_t> rays_{0};
 };

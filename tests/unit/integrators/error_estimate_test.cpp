@@ -17,11 +17,16 @@
 #include "gltf/gltf_loader.h"
 #include "half_split_error.h"
 #include "image_metrics.h"
+#include "integrators/bdpt/bdpt_passes.h"
+#include "integrators/pt/pt_integrator.h"
 #include "integrators/sample_pass_settings.h"
+#include "integrators/sample_passes.h"
 #include "mcmc/chain_error_monitor.h"
+#include "progress_reporter.h"
 #include "render_helpers.h"
 #include "renderer.h"
 #include "shard/shardable.h"
+#include "type_layers.h"
 
 namespace partita {
 namespace {
@@ -112,6 +117,50 @@ double imageMean(const Image& image) {
     double sum = 0;
     for (float v : image.rgb) sum += v;
     return sum / double(image.rgb.size());
+}
+
+/// The pass renderer of `algorithm` (pt or bdpt) over every type, unrestricted.
+std::unique_ptr<SamplePassRenderer> passRenderer(const std::string& algorithm,
+                                                 const RenderContext& ctx) {
+    if (algorithm == "pt") return makeRestrictedPathTracerPasses(ctx, TypeLayers::every(), {});
+    return std::make_unique<BdptPasses>(ctx, BdptSettings{}, TypeLayers::every());
+}
+
+class OddHalf : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(OddHalf, HoldsExactlyTheSumsOfTheOddSampleIndices) {
+    // The error estimate's half B, summed beside the film during whole passes, is bit for bit
+    // the film a renderer makes of the odd sample indices alone; the whole film is unchanged.
+    RenderScene scene = cornell();
+    RenderSettings st = tinySettings(6, 5);
+    test::TestRenderContext render(scene, st, 2);
+    ProgressReporter progress(render.observer, "render", "samples", 0);
+    auto whole = passRenderer(GetParam(), render.ctx);
+    whole->keepOddHalf();
+    whole->renderPass({0, 6}, progress);
+    auto odd = passRenderer(GetParam(), render.ctx);
+    auto plain = passRenderer(GetParam(), render.ctx);
+    for (uint64_t s = 1; s < 6; s += 2) odd->renderPass({s, s + 1}, progress);
+    plain->renderPass({0, 6}, progress);
+    const Image oddSums = whole->oddHalfSums();
+    EXPECT_EQ(oddSums.rgb, odd->combinedSums().rgb);
+    EXPECT_EQ(whole->combinedSums().rgb, plain->combinedSums().rgb);
+    EXPECT_NE(oddSums.rgb, whole->combinedSums().rgb) << "the even samples are not in half B";
+}
+
+INSTANTIATE_TEST_SUITE_P(SamplePasses, OddHalf, ::testing::Values("pt", "bdpt"));
+
+TEST(HalfSplitError, InterleavedHalvesCountTheEvenAndOddIndices) {
+    // Sums of [0, 5): half A (indices 0, 2, 4) 1 a sample, half B (1, 3) 3 a sample.
+    Image total(2, 2), odd(2, 2);
+    total.rgb.assign(total.rgb.size(), 3 * 1.0f + 2 * 3.0f);
+    odd.rgb.assign(odd.rgb.size(), 2 * 3.0f);
+    HalfSplitError estimate;
+    estimate.setInterleaved(total, odd, 5);
+    EXPECT_EQ(estimate.samplesA(), 3u);
+    EXPECT_EQ(estimate.samplesB(), 2u);
+    // Var ~ (1 - 3)^2 * 3 * 2 / 25 over a mean of 9 / 5.
+    EXPECT_NEAR(estimate.relativeRmse(), std::sqrt(4.0 * 6.0 / 25.0) / (9.0 / 5.0), 1e-6);
 }
 
 class ErrorEstimate : public ::testing::TestWithParam<const char*> {};
