@@ -36,6 +36,7 @@
 #include <malloc.h>
 #endif
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #if defined(__SSE2__) && defined(__x86_64__)
 #include <emmintrin.h>
@@ -43,8 +44,10 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "path_type_bytes.h"
 #include "thread_pool.h"
@@ -118,10 +121,10 @@ class BlockPool {
         std::lock_guard<std::mutex> lock(mutex_);
         if (used_ == capacity_) {
             capacity_ = chunks_.empty() ? 4 : std::min<size_t>(512, 2 * capacity_);
-            chunks_.push_back(std::make_unique<LineAlignedBlock[]>(capacity_));  // zeroed
+            chunks_.push_back(zeroedChunk(capacity_));
             used_ = 0;
         }
-        return &chunks_.back()[used_++].block;
+        return &alignedBlocks(chunks_.back())[used_++].block;
     }
     /// Frees every block (their pointers must not be used again).
     void release() {
@@ -135,8 +138,22 @@ class BlockPool {
         Block block{};
     };
     static_assert(sizeof(LineAlignedBlock) == sizeof(Block));
+    static_assert(std::is_trivially_copyable_v<LineAlignedBlock>);
+    using Chunk = std::unique_ptr<void, decltype(&std::free)>;
+    /// `blocks` zeroed blocks and a line of slack to align them. From calloc, not new[] and a
+    /// clear: memory fresh from the system (most of a large film's) is known to be zero and is
+    /// not written once more (the clear was a tenth of reading a shard's film).
+    static Chunk zeroedChunk(size_t blocks) {
+        void* raw = std::calloc(blocks * sizeof(LineAlignedBlock) + 64, 1);
+        if (!raw) throw std::bad_alloc();
+        return Chunk(raw, &std::free);
+    }
+    static LineAlignedBlock* alignedBlocks(const Chunk& chunk) {
+        const auto at = reinterpret_cast<uintptr_t>(chunk.get());
+        return reinterpret_cast<LineAlignedBlock*>((at + 63) & ~uintptr_t(63));
+    }
     std::mutex mutex_;
-    std::vector<std::unique_ptr<LineAlignedBlock[]>> chunks_;
+    std::vector<Chunk> chunks_;
     size_t used_ = 0, capacity_ = 0;
 };
 
@@ -635,7 +652,8 @@ uint64_t Film::droppedSamples() const { return dropped_.load(std::memory_order_r
 
 namespace {
 constexpr uint32_t kFilmMagic = 0x4d4c4650;  // "PFLM"
-constexpr uint32_t kFilmVersion = 3;  // 2: sums as zigzag varints; 3: type layers and "other"
+constexpr uint32_t kFilmVersion = 4;  // 2: sums as zigzag varints; 3: type layers and "other";
+                                      // 4: tiles' byte counts first
 
 void putSums(ByteWriter& w, const FixedRgb* sums, size_t count) {
     for (size_t i = 0; i < count; ++i)
@@ -665,36 +683,47 @@ void getBlocks(ByteReader& r, std::array<Block*, kTileBlocks>& blocks, BlockPool
     }
 }
 
+/// body(t) for every tile t, on `threads` threads (one: in order, on this thread).
+void forEachTile(size_t tiles, int threads, const std::function<void(size_t)>& body) {
+    if (threads <= 1) {
+        for (size_t t = 0; t < tiles; ++t) body(t);
+        return;
+    }
+    ThreadPool(threads).parallelFor(tiles, body);
+}
+
 }  // namespace
 
-// The type layers, then per tile: the combined sums, the tile's types in PathType order (so that
-// the bytes do not depend on the order in which types reached it), each with its blocks, and the
-// "other" buffer's blocks. Sums are zigzag varints: most are zero or far below 2^63.
-std::vector<uint8_t> Film::serialize() const {
+// The type layers, each tile's byte count, then per tile: the combined sums, the tile's types in
+// PathType order (so that the bytes do not depend on the order in which types reached it), each
+// with its blocks, and the "other" buffer's blocks. Sums are zigzag varints: most are zero or far
+// below 2^63. The byte counts let tiles be written and read in parallel (a 1280x720 film of a
+// shard holds ~150 MB of varints: one thread took ~2 s to read them).
+std::vector<uint8_t> Film::serialize(int threads) const {
+    std::vector<std::vector<uint8_t>> tileBytes(tiles_.size());
+    forEachTile(tiles_.size(), threads, [&](size_t t) {
+        ByteWriter w;
+        putTile(w, *tiles_[t]);
+        tileBytes[t] = std::move(w.bytes);
+    });
+    size_t total = 0;
+    for (const auto& b : tileBytes) total += b.size();
     ByteWriter w;
-    w.bytes.reserve(size_t(width_) * size_t(height_) * 3 + 64);  // combined sums: >= 1 B each
+    w.bytes.reserve(total + 4 * tiles_.size() + 256);
     w.putHeader(kFilmMagic, kFilmVersion);
     w.put(int32_t(width_));
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
     layers_.serialize(w);
-    for (const auto& tile : tiles_) {
-        putSums(w, tile->combined.data(), tile->combined.size());
-        std::vector<const Tile::TypeBuffer*> sorted;
-        for (const auto& t : tile->types) sorted.push_back(&t);
-        std::sort(sorted.begin(), sorted.end(),
-                  [](const auto* a, const auto* b) { return a->type < b->type; });
-        w.put(uint32_t(sorted.size()));
-        for (const auto* t : sorted) {
-            putPathType(w, t->type);
-            putBlocks(w, t->blocks);
-        }
-        putBlocks(w, tile->other.blocks);
+    for (const auto& b : tileBytes) w.put(uint32_t(b.size()));
+    for (auto& b : tileBytes) {
+        w.bytes.insert(w.bytes.end(), b.begin(), b.end());
+        std::vector<uint8_t>().swap(b);  // given back as it is copied
     }
     return std::move(w.bytes);
 }
 
-Film Film::deserialize(std::span<const uint8_t> bytes) {
+Film Film::deserialize(std::span<const uint8_t> bytes, int threads) {
     ByteReader r(bytes, "film");
     r.expectHeader(kFilmMagic, kFilmVersion, "film");
     int32_t w = r.get<int32_t>(), h = r.get<int32_t>();
@@ -702,21 +731,44 @@ Film Film::deserialize(std::span<const uint8_t> bytes) {
     const uint64_t dropped = r.get<uint64_t>();
     Film film(w, h, TypeLayers::deserialize(r));
     film.dropped_ = dropped;
-    for (auto& tile : film.tiles_) {
-        getSums(r, tile->combined.data(), tile->combined.size());
-        uint32_t types = r.get<uint32_t>();
-        for (uint32_t k = 0; k < types; ++k) {
-            const PathType type = getPathType(r);
-            if (!tile->types.empty() && !(tile->types.back().type < type))
-                r.fail("types out of order");
-            if (!film.layers_.keeps(type)) r.fail("a type the film does not keep");
-            Tile::TypeBuffer& buffer = tile->bufferFor(type, film.layers_, *film.pools_);
-            getBlocks(r, buffer.blocks, *buffer.pool);
-        }
-        getBlocks(r, tile->other.blocks, *tile->other.pool);
-    }
+    std::vector<std::span<const uint8_t>> tileBytes(film.tiles_.size());
+    std::vector<uint32_t> sizes(film.tiles_.size());
+    for (uint32_t& size : sizes) size = r.get<uint32_t>();
+    for (size_t t = 0; t < sizes.size(); ++t) tileBytes[t] = r.getRaw(sizes[t]);
     if (!r.atEnd()) r.fail("trailing bytes");
+    forEachTile(film.tiles_.size(), threads, [&](size_t t) {
+        ByteReader tr(tileBytes[t], "film");
+        film.getTile(tr, *film.tiles_[t]);
+        if (!tr.atEnd()) tr.fail("trailing bytes in a tile");
+    });
     return film;
+}
+
+void Film::putTile(ByteWriter& w, const Tile& tile) const {
+    putSums(w, tile.combined.data(), tile.combined.size());
+    std::vector<const Tile::TypeBuffer*> sorted;
+    for (const auto& t : tile.types) sorted.push_back(&t);
+    std::sort(sorted.begin(), sorted.end(),
+              [](const auto* a, const auto* b) { return a->type < b->type; });
+    w.put(uint32_t(sorted.size()));
+    for (const auto* t : sorted) {
+        putPathType(w, t->type);
+        putBlocks(w, t->blocks);
+    }
+    putBlocks(w, tile.other.blocks);
+}
+
+void Film::getTile(ByteReader& r, Tile& tile) {
+    getSums(r, tile.combined.data(), tile.combined.size());
+    uint32_t types = r.get<uint32_t>();
+    for (uint32_t k = 0; k < types; ++k) {
+        const PathType type = getPathType(r);
+        if (!tile.types.empty() && !(tile.types.back().type < type)) r.fail("types out of order");
+        if (!layers_.keeps(type)) r.fail("a type the film does not keep");
+        Tile::TypeBuffer& buffer = tile.bufferFor(type, layers_, *pools_);
+        getBlocks(r, buffer.blocks, *buffer.pool);
+    }
+    getBlocks(r, tile.other.blocks, *tile.other.pool);
 }
 
 }  // namespace partita

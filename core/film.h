@@ -28,6 +28,8 @@
 
 namespace partita {
 
+class ByteReader;
+class ByteWriter;
 class ThreadPool;
 
 class Film {
@@ -108,8 +110,10 @@ class Film {
     /// A versioned binary form of every sum (all types, exact), for a shard's result (shard/);
     /// deserialize throws std::invalid_argument on anything else (truncated, another version).
     /// Equal films give equal bytes, whatever order types reached their tiles in.
-    std::vector<uint8_t> serialize() const;
-    static Film deserialize(std::span<const uint8_t> bytes);
+    /// With `threads` > 1, the tiles are written (read) on that many threads: the same bytes
+    /// (film).
+    std::vector<uint8_t> serialize(int threads = 1) const;
+    static Film deserialize(std::span<const uint8_t> bytes, int threads = 1);
 
     /// Per kept type that occurred, the total luminance of its sums (unscaled), in PathType
     /// order; the types in "other" are not told apart. The same with or without a `pool`.
@@ -136,6 +140,9 @@ class Film {
     LayerOrder layerOrder(int maxTypeLayers, ThreadPool* pool) const;
     /// Frees the blocks of the types of `layer` (takeResolved).
     void releaseLayer(const LayerOrder& order, size_t layer);
+    /// One tile's part of serialize(), and its reading back into an empty tile.
+    void putTile(ByteWriter& w, const Tile& tile) const;
+    void getTile(ByteReader& r, Tile& tile);
     int width_ = 0, height_ = 0;
     TypeLayers layers_;
     bool typeBuffers_ = true;       // false when layers_ keeps no type: the combined sums only

@@ -106,10 +106,10 @@ uint64_t ShardPlan::id() const { return fileChecksum(serializeShardPlan(*this));
 
 namespace {
 
-void putWork(ByteWriter& w, const ShardWork& work) {
+void putWork(ByteWriter& w, const ShardWork& work, int threads) {
     w.put(uint64_t(work.films.size()));
     for (const Film& f : work.films) {
-        const std::vector<uint8_t> film = f.serialize();
+        const std::vector<uint8_t> film = f.serialize(threads);
         w.put(uint64_t(film.size()));
         w.putBytes(compressBytes(film));
     }
@@ -126,18 +126,18 @@ void putWork(ByteWriter& w, const ShardWork& work) {
 
 // The body, then its fileChecksum: a truncated or flipped file fails the check before anything
 // in it is trusted.
-std::vector<uint8_t> serializeShardResult(const ShardResult& s) {
+std::vector<uint8_t> serializeShardResult(const ShardResult& s, int threads) {
     ByteWriter w;
     w.putHeader(kResultMagic, kResultVersion);
     w.put(s.planId);
     w.put(s.shard);
     w.put(s.shards);
-    putWork(w, s.work);
+    putWork(w, s.work, threads);
     w.put(fileChecksum(w.bytes));
     return std::move(w.bytes);
 }
 
-ShardResult deserializeShardResult(std::span<const uint8_t> bytes) {
+ShardResult deserializeShardResult(std::span<const uint8_t> bytes, int threads) {
     ByteReader r(bytes, "shard result");
     r.expectHeader(kResultMagic, kResultVersion, "shard result");
     if (bytes.size() < 16) r.fail("truncated");
@@ -159,11 +159,11 @@ ShardResult deserializeShardResult(std::span<const uint8_t> bytes) {
         const uint64_t size = body.get<uint64_t>();
         std::vector<uint8_t> film;
         try {
-            film = decompressBytes(body.getBytes(), size);
+            film = decompressBytes(body.getRaw(body.get<uint64_t>()), size);  // in place
         } catch (const std::invalid_argument& e) {
             body.fail(e.what());
         }
-        s.work.films.push_back(Film::deserialize(film));
+        s.work.films.push_back(Film::deserialize(film, threads));
     }
     uint64_t counts = body.get<uint64_t>();
     for (uint64_t i = 0; i < counts; ++i) s.work.counts.push_back(body.get<uint64_t>());

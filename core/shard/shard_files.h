@@ -39,8 +39,10 @@ struct ShardResult {
     uint64_t checksum = 0;  // set by deserializeShardResult: its file's checksum
 };
 
-std::vector<uint8_t> serializeShardResult(const ShardResult& result);
-ShardResult deserializeShardResult(std::span<const uint8_t> bytes);
+/// `threads`: how many threads write (read) the films' tiles (Film::serialize); the same bytes
+/// for any count.
+std::vector<uint8_t> serializeShardResult(const ShardResult& result, int threads = 1);
+ShardResult deserializeShardResult(std::span<const uint8_t> bytes, int threads = 1);
 
 /// The checksum a shard result's file ends with: read from the file when it came from one,
 /// else computed by serialising it. Equal for equal results (a retried shard).

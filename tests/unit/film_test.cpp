@@ -334,6 +334,9 @@ TEST(Film, SerializeRoundTripsAndRefusesDamage) {
     EXPECT_EQ(back.typeCount(), film.typeCount());
     EXPECT_EQ(back.serialize(), bytes);
     expectBytewiseEqual(back.resolve(0.5f, 4), film.resolve(0.5f, 4));
+    // Tiles written and read on several threads: the same bytes and the same film.
+    EXPECT_EQ(film.serialize(3), bytes);
+    EXPECT_EQ(Film::deserialize(bytes, 3).serialize(), bytes);
 
     std::vector<uint8_t> truncated(bytes.begin(), bytes.end() - 1);
     EXPECT_THROW(Film::deserialize(truncated), std::invalid_argument);

@@ -38,6 +38,7 @@ class CommandRun {
     }
     /// Ends the bar's line before the command prints its own.
     void finish() { bar_.finish(); }
+    int threads() const { return pool_.threadCount(); }
 
   private:
     ThreadPool pool_;
@@ -114,7 +115,7 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
     CommandRun run(command.threads, quiet);
     ShardResult result = renderPlannedShard(run.environment(scene), plan, *shard);
     run.finish();
-    writeFileAtomic(command.out, serializeShardResult(result));
+    writeFileAtomic(command.out, serializeShardResult(result, run.threads()));
     if (!quiet)
         std::fprintf(stderr, "wrote %s: shard %u of %u\n", command.out.c_str(), *shard,
                      plan.shards);
@@ -132,15 +133,21 @@ int runMergeCommand(const MergeCommand& command, bool quiet) {
     ShardMerger merger(plan);
     // Shard files are read and decoded a few at a time on their own threads (decoding is most
     // of a merge), and merged in the order given, so the result is the same.
-    const size_t ahead = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 4);
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    const size_t ahead = std::clamp<size_t>(size_t(cores), 1, 4);
+    // The cores not taken by other files' decoding read each file's tiles in parallel.
+    const int threadsPerFile =
+        std::max(1, cores / int(std::clamp<size_t>(command.shards.size(), 1, ahead)));
     std::deque<std::future<std::pair<ShardResult, uint64_t>>> loading;
     size_t next = 0;
     auto loadMore = [&] {
         while (next < command.shards.size() && loading.size() < ahead) {
-            loading.push_back(std::async(std::launch::async, [path = command.shards[next]] {
-                std::vector<uint8_t> bytes = readFileBytes(path);
-                return std::make_pair(deserializeShardResult(bytes), uint64_t(bytes.size()));
-            }));
+            loading.push_back(
+                std::async(std::launch::async, [path = command.shards[next], threadsPerFile] {
+                    std::vector<uint8_t> bytes = readFileBytes(path);
+                    return std::make_pair(deserializeShardResult(bytes, threadsPerFile),
+                                          uint64_t(bytes.size()));
+                }));
             ++next;
         }
     };
