@@ -656,12 +656,10 @@ constexpr uint32_t kFilmVersion = 4;  // 2: sums as zigzag varints; 3: type laye
                                       // 4: tiles' byte counts first
 
 void putSums(ByteWriter& w, const FixedRgb* sums, size_t count) {
-    for (size_t i = 0; i < count; ++i)
-        for (uint64_t c : sums[i].c) w.putSignedVarint(int64_t(c));
+    w.putSignedVarints(3 * count, [&](size_t i) { return int64_t(sums[i / 3].c[i % 3]); });
 }
 void getSums(ByteReader& r, FixedRgb* sums, size_t count) {
-    for (size_t i = 0; i < count; ++i)
-        for (uint64_t& c : sums[i].c) c = uint64_t(r.getSignedVarint());
+    r.getSignedVarints(3 * count, [&](size_t i, int64_t v) { sums[i / 3].c[i % 3] = uint64_t(v); });
 }
 
 // Blocks of one buffer: a bit mask of the allocated ones, then those blocks' sums.

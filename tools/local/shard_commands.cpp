@@ -115,10 +115,13 @@ int runShardCommand(const ShardCommand& command, bool quiet) {
     CommandRun run(command.threads, quiet);
     ShardResult result = renderPlannedShard(run.environment(scene), plan, *shard);
     run.finish();
-    writeFileAtomic(command.out, serializeShardResult(result, run.threads()));
+    const auto writeStart = Clock::now();
+    const std::vector<uint8_t> bytes = serializeShardResult(result, run.threads());
+    writeFileAtomic(command.out, bytes);
     if (!quiet)
-        std::fprintf(stderr, "wrote %s: shard %u of %u\n", command.out.c_str(), *shard,
-                     plan.shards);
+        std::fprintf(stderr, "wrote %s: shard %u of %u, %sB in %.2f s\n", command.out.c_str(),
+                     *shard, plan.shards, humanCount(double(bytes.size())).c_str(),
+                     secondsSince(writeStart));
     return 0;
 }
 
