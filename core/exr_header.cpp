@@ -19,7 +19,8 @@ using ReadAt = std::function<bool(uint64_t offset, size_t n, uint8_t* out)>;
 /// The walk over the header(s) of an EXR of `size` bytes (see exr_header.h).
 class HeaderWalk {
   public:
-    HeaderWalk(uint64_t size, ReadAt read) : size_(size), read_(std::move(read)) {}
+    HeaderWalk(uint64_t size, ReadAt read, uint64_t maxOpenBytes = kMaxExrOpenBytes)
+        : size_(size), read_(std::move(read)), maxOpenBytes_(maxOpenBytes) {}
 
     std::string problem() {
         uint32_t magic = 0, version = 0;
@@ -111,15 +112,15 @@ class HeaderWalk {
     }
 
     /// The line buffers and the line offsets OpenEXR allocates when it opens the file.
-    static std::string openCost(const Layout& l) {
+    std::string openCost(const Layout& l) const {
         if (l.width <= 0 || l.height <= 0) return {};  // OpenEXR refuses an empty window itself
         const double buffers = double(l.width) * double(l.bytesPerPixel) * double(l.linesPerBlock);
         const double offsets = double(l.height) / double(l.linesPerBlock) * 8;
-        if (std::max(buffers, offsets) <= double(kMaxExrOpenBytes)) return {};
+        if (std::max(buffers, offsets) <= double(maxOpenBytes_)) return {};
         return "its data window (" + std::to_string(l.width) + " x " + std::to_string(l.height) +
                " pixels of " + std::to_string(l.bytesPerPixel) +
                " bytes) would need more memory to open than the " +
-               std::to_string(kMaxExrOpenBytes >> 20) + " MiB allowed";
+               std::to_string(maxOpenBytes_ >> 20) + " MiB allowed";
     }
 
     /// Multipart files end their list of headers with an empty one.
@@ -133,17 +134,20 @@ class HeaderWalk {
 
     uint64_t size_;
     ReadAt read_;
+    uint64_t maxOpenBytes_;
 };
 
 }  // namespace
 
-std::string exrHeaderProblem(std::span<const uint8_t> bytes) {
-    return HeaderWalk(bytes.size(),
-                      [&](uint64_t offset, size_t n, uint8_t* out) {
-                          if (offset > bytes.size() || n > bytes.size() - offset) return false;
-                          std::memcpy(out, bytes.data() + offset, n);
-                          return true;
-                      })
+std::string exrHeaderProblem(std::span<const uint8_t> bytes, uint64_t maxOpenBytes) {
+    return HeaderWalk(
+               bytes.size(),
+               [&](uint64_t offset, size_t n, uint8_t* out) {
+                   if (offset > bytes.size() || n > bytes.size() - offset) return false;
+                   std::memcpy(out, bytes.data() + offset, n);
+                   return true;
+               },
+               maxOpenBytes)
         .problem();
 }
 

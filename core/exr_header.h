@@ -22,8 +22,11 @@ namespace partita {
 inline constexpr uint64_t kMaxExrOpenBytes = uint64_t(512) << 20;
 
 /// "" when `bytes` are not an OpenEXR file (other formats are not its business) or every
-/// attribute of its header(s) fits in them; else why the file is refused, one line.
-std::string exrHeaderProblem(std::span<const uint8_t> bytes);
+/// attribute of its header(s) fits in them and opening it costs at most `maxOpenBytes`; else
+/// why the file is refused, one line. (A smaller `maxOpenBytes`: the fuzz target's, so that
+/// its runs do not spend their time clearing buffers of hundreds of MiB.)
+std::string exrHeaderProblem(std::span<const uint8_t> bytes,
+                             uint64_t maxOpenBytes = kMaxExrOpenBytes);
 
 /// The same for a file, reading only its header. "" when it cannot be opened.
 std::string exrHeaderProblem(const std::filesystem::path& file);
