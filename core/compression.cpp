@@ -18,23 +18,58 @@ constexpr int kLevel = 1;
 /// stands for at most 128 KiB, 32768:1; the frame header and checksum are below the slack.
 constexpr uint64_t kMaxRatio = (uint64_t(128) << 10) / 4;
 
+using Context = std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)>;
+
+/// A compression context of kLevel whose frames carry their checksum (xxHash64, cheap): a
+/// damaged frame fails to decompress instead of decoding into other bytes of the same size.
+Context newContext() {
+    Context context(ZSTD_createCCtx(), ZSTD_freeCCtx);
+    if (!context) throw std::bad_alloc();
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, kLevel);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
+    return context;
+}
+
+void check(size_t result, size_t inputBytes) {
+    if (ZSTD_isError(result))
+        throw std::runtime_error("zstd could not compress " + std::to_string(inputBytes) +
+                                 " bytes: " + ZSTD_getErrorName(result));
+}
+
 }  // namespace
 
 std::vector<uint8_t> compressBytes(std::span<const uint8_t> bytes) {
-    std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> context(ZSTD_createCCtx(), ZSTD_freeCCtx);
-    if (!context) throw std::bad_alloc();
-    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, kLevel);
-    // The frame's own checksum (xxHash64, cheap): a damaged frame fails to decompress instead
-    // of decoding into other bytes of the same size.
-    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
+    Context context = newContext();
     std::vector<uint8_t> out(ZSTD_compressBound(bytes.size()));
     const size_t size =
         ZSTD_compress2(context.get(), out.data(), out.size(), bytes.data(), bytes.size());
-    if (ZSTD_isError(size))
-        throw std::runtime_error("zstd could not compress " + std::to_string(bytes.size()) +
-                                 " bytes: " + ZSTD_getErrorName(size));
+    check(size, bytes.size());
     out.resize(size);
     return out;
+}
+
+size_t appendCompressed(std::vector<uint8_t>& out, std::vector<std::vector<uint8_t>>& pieces) {
+    size_t total = 0;
+    for (const auto& p : pieces) total += p.size();
+    Context context = newContext();
+    check(ZSTD_CCtx_setPledgedSrcSize(context.get(), total), total);  // the frame states it
+    const size_t start = out.size();
+    out.resize(start + ZSTD_compressBound(total));
+    ZSTD_outBuffer output{out.data(), out.size(), start};
+    for (auto& piece : pieces) {
+        ZSTD_inBuffer input{piece.data(), piece.size(), 0};
+        while (input.pos < input.size)
+            check(ZSTD_compressStream2(context.get(), &output, &input, ZSTD_e_continue), total);
+        std::vector<uint8_t>().swap(piece);
+    }
+    ZSTD_inBuffer none{nullptr, 0, 0};
+    size_t left = 0;
+    do {
+        left = ZSTD_compressStream2(context.get(), &output, &none, ZSTD_e_end);
+        check(left, total);
+    } while (left != 0);
+    out.resize(output.pos);
+    return output.pos - start;
 }
 
 std::vector<uint8_t> decompressBytes(std::span<const uint8_t> compressed, uint64_t size) {

@@ -13,6 +13,11 @@ namespace partita {
 
 std::vector<uint8_t> compressBytes(std::span<const uint8_t> bytes);
 
+/// compressBytes of the pieces' concatenation, appended to `out` without making that
+/// concatenation; each piece is emptied (its memory given back) once it is consumed. Returns
+/// the number of bytes appended.
+size_t appendCompressed(std::vector<uint8_t>& out, std::vector<std::vector<uint8_t>>& pieces);
+
 /// The `size` bytes `compressed` holds; std::invalid_argument when it is not one Zstandard frame
 /// of exactly that many bytes, or `size` is more than such a frame could have compressed into
 /// it (so a hostile file cannot make it allocate more than ~33000 times its own size).

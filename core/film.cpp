@@ -697,28 +697,35 @@ void forEachTile(size_t tiles, int threads, const std::function<void(size_t)>& b
 // with its blocks, and the "other" buffer's blocks. Sums are zigzag varints: most are zero or far
 // below 2^63. The byte counts let tiles be written and read in parallel (a 1280x720 film of a
 // shard holds ~150 MB of varints: one thread took ~2 s to read them).
-std::vector<uint8_t> Film::serialize(int threads) const {
-    std::vector<std::vector<uint8_t>> tileBytes(tiles_.size());
+std::vector<std::vector<uint8_t>> Film::serializePieces(int threads) const {
+    std::vector<std::vector<uint8_t>> pieces(1 + tiles_.size());
     forEachTile(tiles_.size(), threads, [&](size_t t) {
         ByteWriter w;
         putTile(w, *tiles_[t]);
-        tileBytes[t] = std::move(w.bytes);
+        pieces[1 + t] = std::move(w.bytes);
     });
-    size_t total = 0;
-    for (const auto& b : tileBytes) total += b.size();
     ByteWriter w;
-    w.bytes.reserve(total + 4 * tiles_.size() + 256);
     w.putHeader(kFilmMagic, kFilmVersion);
     w.put(int32_t(width_));
     w.put(int32_t(height_));
     w.put(uint64_t(dropped_.load()));
     layers_.serialize(w);
-    for (const auto& b : tileBytes) w.put(uint32_t(b.size()));
-    for (auto& b : tileBytes) {
-        w.bytes.insert(w.bytes.end(), b.begin(), b.end());
-        std::vector<uint8_t>().swap(b);  // given back as it is copied
+    for (size_t t = 1; t < pieces.size(); ++t) w.put(uint32_t(pieces[t].size()));
+    pieces[0] = std::move(w.bytes);
+    return pieces;
+}
+
+std::vector<uint8_t> Film::serialize(int threads) const {
+    std::vector<std::vector<uint8_t>> pieces = serializePieces(threads);
+    size_t total = 0;
+    for (const auto& p : pieces) total += p.size();
+    std::vector<uint8_t> bytes;
+    bytes.reserve(total);
+    for (auto& p : pieces) {
+        bytes.insert(bytes.end(), p.begin(), p.end());
+        std::vector<uint8_t>().swap(p);  // given back as it is copied
     }
-    return std::move(w.bytes);
+    return bytes;
 }
 
 Film Film::deserialize(std::span<const uint8_t> bytes, int threads) {

@@ -113,6 +113,9 @@ class Film {
     /// With `threads` > 1, the tiles are written (read) on that many threads: the same bytes
     /// (film).
     std::vector<uint8_t> serialize(int threads = 1) const;
+    /// serialize()'s bytes in pieces (the header, then each tile's), to be written or
+    /// compressed one after another without copying them into one buffer first.
+    std::vector<std::vector<uint8_t>> serializePieces(int threads = 1) const;
     static Film deserialize(std::span<const uint8_t> bytes, int threads = 1);
 
     /// Per kept type that occurred, the total luminance of its sums (unscaled), in PathType

@@ -109,9 +109,16 @@ namespace {
 void putWork(ByteWriter& w, const ShardWork& work, int threads) {
     w.put(uint64_t(work.films.size()));
     for (const Film& f : work.films) {
-        const std::vector<uint8_t> film = f.serialize(threads);
-        w.put(uint64_t(film.size()));
-        w.putBytes(compressBytes(film));
+        // The film's bytes (its size, then compressed with their length, as putBytes): fed to
+        // the compressor tile by tile, straight into the result's bytes.
+        std::vector<std::vector<uint8_t>> pieces = f.serializePieces(threads);
+        uint64_t size = 0;
+        for (const auto& p : pieces) size += p.size();
+        w.put(size);
+        const size_t lengthAt = w.bytes.size();
+        w.put(uint64_t(0));
+        const uint64_t length = appendCompressed(w.bytes, pieces);
+        std::memcpy(w.bytes.data() + lengthAt, &length, sizeof length);
     }
     w.put(uint64_t(work.counts.size()));
     for (uint64_t c : work.counts) w.put(c);

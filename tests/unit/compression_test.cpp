@@ -25,6 +25,22 @@ TEST(Compression, RoundTripsAndShrinksFilmLikeBytes) {
     EXPECT_EQ(decompressBytes(compressBytes({}), 0), std::vector<uint8_t>{});
 }
 
+TEST(Compression, PiecesCompressedOneAfterAnotherAreTheirConcatenation) {
+    const std::vector<uint8_t> bytes = varintLikeBytes(300000);
+    std::vector<std::vector<uint8_t>> pieces = {{bytes.begin(), bytes.begin() + 7},
+                                                {},
+                                                {bytes.begin() + 7, bytes.begin() + 200000},
+                                                {bytes.begin() + 200000, bytes.end()}};
+    std::vector<uint8_t> out = {1, 2, 3};  // appended after what is there
+    const size_t appended = appendCompressed(out, pieces);
+    ASSERT_EQ(out.size(), 3 + appended);
+    EXPECT_EQ(std::vector<uint8_t>(out.begin(), out.begin() + 3), (std::vector<uint8_t>{1, 2, 3}));
+    const std::span<const uint8_t> packed(out.data() + 3, appended);
+    EXPECT_EQ(decompressBytes(packed, bytes.size()), bytes);
+    EXPECT_THROW(decompressBytes(packed, bytes.size() - 1), std::invalid_argument);
+    for (const auto& piece : pieces) EXPECT_TRUE(piece.empty()) << "given back";
+}
+
 TEST(Compression, RefusesDamageWrongSizesAndImpossibleClaims) {
     const std::vector<uint8_t> bytes = varintLikeBytes(100000);
     std::vector<uint8_t> packed = compressBytes(bytes);
