@@ -35,10 +35,10 @@ class SamplePassLoop {
         while (sppDone_ < targetSpp) {
             ctx_.throwIfCancelled();
             const uint64_t begin = sppDone_;
-            uint64_t end = std::min(targetSpp, sppDone_ + passSpp);
+            const uint64_t end = std::min(targetSpp, sppDone_ + passSpp);
             auto passStart = Clock::now();
             std::clock_t passCpuStart = std::clock();
-            end = renderHalves({begin, end}, progress);
+            renderAndEstimate({begin, end}, progress);
             double passSeconds = secondsSince(passStart);
             renderSeconds_ += passSeconds;
             renderCpuSeconds_ += double(std::clock() - passCpuStart) / CLOCKS_PER_SEC;
@@ -71,14 +71,12 @@ class SamplePassLoop {
     /// Renders the pass, then estimates the error from the even (half A) and odd (half B)
     /// sample indices' sums (half_split_error.h) and reports it. A pass is rendered whole, so
     /// that each pixel gets its samples one after another while its sums are in the cache
-    /// (sample by sample over the image, the path tracer lost a tenth of its speed). Returns
-    /// the end of the samples rendered.
-    uint64_t renderHalves(SampleRange pass, ProgressReporter& progress) {
+    /// (sample by sample over the image, the path tracer lost a tenth of its speed).
+    void renderAndEstimate(SampleRange pass, ProgressReporter& progress) {
         renderer_.renderPass(pass, progress);
         errorEstimate_.setInterleaved(renderer_.combinedSums(), renderer_.oddHalfSums(), pass.end);
         if (errorEstimate_.ready())
             progress.setValues({{"error_estimate", errorEstimate_.relativeRmse()}});
-        return pass.end;
     }
 
     /// Whether the estimate reached the target error (trusted from kMinHalfSamples samples per
