@@ -37,18 +37,9 @@ class ByteWriter {
         put(magic);
         put(version);
     }
-    /// An unsigned LEB128 varint: 7 bits a byte, small values in few bytes.
-    void putVarint(uint64_t v) {
-        while (v >= 0x80) {
-            bytes.push_back(uint8_t(v | 0x80));
-            v >>= 7;
-        }
-        bytes.push_back(uint8_t(v));
-    }
-    /// A signed value as a zigzag varint (small magnitudes of either sign in few bytes).
-    void putSignedVarint(int64_t v) { putVarint((uint64_t(v) << 1) ^ uint64_t(v >> 63)); }
-    /// putSignedVarint of value(i) for i in [0, count): the same bytes, written through a
-    /// pointer after one resize (byte by byte, a film's ~10^8 varints took seconds).
+    /// Signed values value(i), i in [0, count), as zigzag LEB128 varints (small magnitudes of
+    /// either sign in few bytes: 7 bits a byte), written through a pointer after one resize
+    /// (byte by byte, a film's ~10^8 varints took seconds).
     template <typename Value>
     void putSignedVarints(size_t count, Value&& value) {
         constexpr size_t kMaxVarintBytes = 10;
@@ -102,22 +93,9 @@ class ByteReader {
             fail(kind + " version " + std::to_string(v) + ", this build reads " +
                  std::to_string(version));
     }
-    uint64_t getVarint() {
-        uint64_t v = 0;
-        for (int shift = 0; shift < 64; shift += 7) {
-            need(1);
-            const uint8_t b = bytes_[at_++];
-            v |= uint64_t(b & 0x7f) << shift;
-            if (!(b & 0x80)) return v;
-        }
-        fail("bad varint");
-    }
-    int64_t getSignedVarint() {
-        const uint64_t v = getVarint();
-        return int64_t(v >> 1) ^ -int64_t(v & 1);
-    }
-    /// store(i, getSignedVarint()) for i in [0, count), failing as getSignedVarint does; read
-    /// through a local pointer (the members' way, a film's ~10^8 varints took seconds).
+    /// store(i, v) for the next `count` zigzag varints v (putSignedVarints); fails on a varint
+    /// of more than 64 bits or past the end. Read through a local pointer (through the members,
+    /// a film's ~10^8 varints took seconds).
     template <typename Store>
     void getSignedVarints(size_t count, Store&& store) {
         const uint8_t* p = bytes_.data() + at_;

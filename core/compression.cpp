@@ -38,16 +38,6 @@ void check(size_t result, size_t inputBytes) {
 
 }  // namespace
 
-std::vector<uint8_t> compressBytes(std::span<const uint8_t> bytes) {
-    Context context = newContext();
-    std::vector<uint8_t> out(ZSTD_compressBound(bytes.size()));
-    const size_t size =
-        ZSTD_compress2(context.get(), out.data(), out.size(), bytes.data(), bytes.size());
-    check(size, bytes.size());
-    out.resize(size);
-    return out;
-}
-
 size_t appendCompressed(std::vector<uint8_t>& out, std::vector<std::vector<uint8_t>>& pieces) {
     size_t total = 0;
     for (const auto& p : pieces) total += p.size();

@@ -11,9 +11,7 @@
 
 namespace partita {
 
-std::vector<uint8_t> compressBytes(std::span<const uint8_t> bytes);
-
-/// compressBytes of the pieces' concatenation, appended to `out` without making that
+/// The pieces' concatenation compressed (one frame), appended to `out` without making that
 /// concatenation; each piece is emptied (its memory given back) once it is consumed. Returns
 /// the number of bytes appended.
 size_t appendCompressed(std::vector<uint8_t>& out, std::vector<std::vector<uint8_t>>& pieces);

@@ -87,14 +87,13 @@ void HalfSplitError::addRun(const Image& sums, uint64_t samples, bool toA) {
     (toA ? samplesA_ : samplesB_) += samples;
 }
 
-void HalfSplitError::setInterleaved(const Image& totalSums, const Image& oddSums,
-                                    uint64_t samples) {
+void HalfSplitError::setInterleaved(Image totalSums, const Image& oddSums, uint64_t samples) {
     if (totalSums.rgb.size() != oddSums.rgb.size())
         throw std::invalid_argument("HalfSplitError: the halves differ in size");
-    previous_ = totalSums;
-    halfA_ = Image(totalSums.width, totalSums.height);
-    for (size_t i = 0; i < totalSums.rgb.size(); ++i)
-        halfA_.rgb[i] = totalSums.rgb[i] - oddSums.rgb[i];
+    previous_ = std::move(totalSums);
+    halfA_ = Image(previous_.width, previous_.height);
+    for (size_t i = 0; i < previous_.rgb.size(); ++i)
+        halfA_.rgb[i] = previous_.rgb[i] - oddSums.rgb[i];
     samplesA_ = (samples + 1) / 2;  // the even indices of [0, samples)
     samplesB_ = samples / 2;
 }

@@ -63,7 +63,7 @@ class HalfSplitError {
     /// The halves of samples interleaved by index (replacing any runs): `totalSums`, the film's
     /// unscaled combined sums of sample indices [0, samples), and `oddSums`, those of its odd
     /// indices (half B; half A is the rest).
-    void setInterleaved(const Image& totalSums, const Image& oddSums, uint64_t samples);
+    void setInterleaved(Image totalSums, const Image& oddSums, uint64_t samples);
 
     uint64_t samplesA() const { return samplesA_; }
     uint64_t samplesB() const { return samplesB_; }

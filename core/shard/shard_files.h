@@ -39,7 +39,8 @@ struct ShardResult {
     uint64_t checksum = 0;  // set by deserializeShardResult: its file's checksum
 };
 
-/// `threads`: how many threads write (read) the films' tiles (Film::serialize); the same bytes
+/// `threads`: how many threads write (read) the films' tiles (Film::serializePieces,
+/// Film::deserialize); the same bytes
 /// for any count.
 std::vector<uint8_t> serializeShardResult(const ShardResult& result, int threads = 1);
 ShardResult deserializeShardResult(std::span<const uint8_t> bytes, int threads = 1);

@@ -28,6 +28,14 @@ pb::SceneSource cornellGltf() {
     return source;
 }
 
+/// The header of a .glb upload of `bytes` bytes.
+pb::UploadHeader glbHeader(int64_t bytes) {
+    pb::UploadHeader header;
+    header.set_format(pb::SCENE_FORMAT_GLB);
+    header.set_scene_bytes(bytes);
+    return header;
+}
+
 size_t entriesIn(const fs::path& dir) {
     std::error_code ec;
     size_t n = 0;
@@ -113,9 +121,7 @@ TEST(UploadScene, RefusalsHaveTheirCodesAndLeaveNothingStaged) {
     auto stub = daemon.stub();
     EXPECT_EQ(serverInfo(*stub).limits().max_upload_streams(), 4);
 
-    pb::UploadHeader glb;
-    glb.set_format(pb::SCENE_FORMAT_GLB);
-    glb.set_scene_bytes(10);
+    const pb::UploadHeader glb = glbHeader(10);
     struct Case {
         std::string name;
         pb::UploadHeader header;
@@ -190,9 +196,7 @@ TEST(UploadScene, UploadsInFlightAreBoundedInNumberAndByTheStoreLimit) {
     auto stub = daemon.stub();
 
     // Two uploads that wait for their last byte: the daemon's limit of streams in flight.
-    pb::UploadHeader header;
-    header.set_format(pb::SCENE_FORMAT_GLB);
-    header.set_scene_bytes(1000);
+    const pb::UploadHeader header = glbHeader(1000);
     std::vector<std::unique_ptr<HeldUpload>> open;
     for (int i = 0; i < 2; ++i)
         open.push_back(std::make_unique<HeldUpload>(*stub, header, std::string(500, 'x')));
@@ -226,9 +230,7 @@ TEST(UploadScene, AStalledUploadGivesItsPlaceToOneThatWaits) {
     Daemon daemon(store.path(), {"--max-upload-streams", "1", "--upload-idle-seconds", "2"});
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    pb::UploadHeader header;
-    header.set_format(pb::SCENE_FORMAT_GLB);
-    header.set_scene_bytes(10);
+    const pb::UploadHeader header = glbHeader(10);
     // A client that sends its header and half its bytes, then nothing.
     HeldUpload stalled(*stub, header, "01234");
     const auto sent = std::chrono::steady_clock::now();

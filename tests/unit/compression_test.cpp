@@ -17,6 +17,14 @@ std::vector<uint8_t> varintLikeBytes(size_t n) {
     return out;
 }
 
+/// `bytes` compressed as one piece.
+std::vector<uint8_t> compressBytes(const std::vector<uint8_t>& bytes) {
+    std::vector<std::vector<uint8_t>> pieces = {bytes};
+    std::vector<uint8_t> out;
+    appendCompressed(out, pieces);
+    return out;
+}
+
 TEST(Compression, RoundTripsAndShrinksFilmLikeBytes) {
     const std::vector<uint8_t> bytes = varintLikeBytes(1 << 20);
     const std::vector<uint8_t> packed = compressBytes(bytes);
