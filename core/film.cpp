@@ -440,6 +440,16 @@ void Film::clear() {
     dropped_ = 0;
 }
 
+void Film::release() {
+    tiles_.clear();  // before the pools their buffers point into
+    pools_ = std::make_unique<Pools>();
+    width_ = height_ = 0;
+    dropped_ = 0;
+#ifdef __GLIBC__
+    malloc_trim(0);  // the tiles lie in the heap: their pages go back only when trimmed
+#endif
+}
+
 Image Film::resolveCombined(float scale) const {
     Image img(width_, height_);
     const int tx = tilesX();

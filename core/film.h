@@ -92,6 +92,9 @@ class Film {
     /// otherwise), the dropped-sample counts included.
     void merge(const Film& other);
     void clear();
+    /// Gives every sum's memory back to the system (a film whose image has been made): the film
+    /// is 0x0 afterwards. clear() keeps the memory for more samples.
+    void release();
 
     /// The combined image and the type layers, every value multiplied by `scale` (e.g. 1/spp).
     /// Layers: the `maxTypeLayers` types (a negative count counts as 0) with the largest total

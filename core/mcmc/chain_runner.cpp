@@ -208,6 +208,13 @@ Image ChainRunner::resolveGroupCombined(uint32_t group) const {
     return films_[group].resolveCombined(groupScale(group));
 }
 
+Image ChainRunner::takeGroupCombined(uint32_t group) {
+    Image image = resolveGroupCombined(group);
+    films_[group].release();
+    if (layout_ == FilmLayout::PerGroupWithHalves) films_[plan_.groups.size() + group].release();
+    return image;
+}
+
 uint64_t ChainRunner::mutationsDone(int group) const {
     uint64_t n = 0;
     for (const auto& c : chains_)
@@ -241,6 +248,7 @@ uint64_t ChainRunner::halfMutationsDone(uint32_t group, bool odd) const {
 
 ErrorSums ChainRunner::halvesError(uint32_t group) const {
     const int w = ctx_.settings.width, h = ctx_.settings.height;
+    if (films_[group].width() != w) return {};  // taken (takeGroupCombined): no sums left
     switch (layout_) {
         case FilmLayout::AllAndHalf:
             return filmHalvesError(films_[0], films_[1], plan_.groups[0].b, w, h, mutationsDone(0),

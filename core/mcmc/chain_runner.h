@@ -70,6 +70,11 @@ class ChainRunner {
     LayeredImage takeResolvedGroup(uint32_t group, ThreadPool* pool);
     /// Only the combined image of group g (no type layers), scaled the same way.
     Image resolveGroupCombined(uint32_t group) const;
+    /// resolveGroupCombined's image, giving group g's films (its own and, PerGroupWithHalves,
+    /// its odd half's) back to the system: a render's final image, made one group at a time so
+    /// that the films and the images are not held at once. Group g resolves nothing afterwards
+    /// (film(g) is 0x0, halvesError(g) no longer available): take the statistics first.
+    Image takeGroupCombined(uint32_t group);
     /// Film f (group f's in the PerGroup layout; see FilmLayout).
     const Film& film(uint32_t f) const { return films_[f]; }
     size_t filmCount() const { return films_.size(); }

@@ -489,7 +489,6 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
             });
 
     RenderResult result;
-    result.image = resolvePartitions(imageOf, partitions, rs.width, rs.height);
     result.stats = st.stats;
     addChainStats(result.stats, runner, st.plan, secondsSince(start), startupSeconds,
                   st.startupRays + uint64_t(pixelRays), double(rs.width) * rs.height);
@@ -497,6 +496,13 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     addPerPixelStats(result.stats, pixels, pixelRays);
     monitor.estimateNow();
     monitor.addStats(result.stats);
+    // The statistics first: the image takes the chains' films, one partition at a time, so a
+    // render's last moment holds the films or the images, not both (issue #24).
+    result.image = resolvePartitions(
+        [&](uint32_t g) {
+            return partitions[g].perPixel ? pixelImages[g] : runner.takeGroupCombined(g);
+        },
+        partitions, rs.width, rs.height);
     return result;
 }
 

@@ -618,5 +618,19 @@ TEST(Film, TakeResolvedEqualsResolveBitForBitAndEmptiesTheFilm) {
     }
 }
 
+TEST(Film, ReleaseLeavesAnEmptyFilmThatTakesNoSample) {
+    Film film(40, 20, TypeLayers::every());
+    for (const Sample& s : manyTypeSamples(40, 20, 500, 3))
+        film.addSample(s.x, s.y, s.type, s.value);
+    ASSERT_GT(film.typeCount(), 0u);
+    film.release();
+    EXPECT_EQ(film.width(), 0);
+    EXPECT_EQ(film.height(), 0);
+    EXPECT_EQ(film.typeCount(), 0u);
+    EXPECT_EQ(film.maxBuffersPerTile(), 0u);
+    film.addSample(3, 4, manyTypes()[1], Rgb(1.0f));  // outside a 0x0 film: ignored
+    EXPECT_TRUE(film.resolveCombined(1.0f).rgb.empty());
+}
+
 }  // namespace
 }  // namespace partita

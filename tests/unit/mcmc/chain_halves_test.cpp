@@ -98,6 +98,22 @@ TEST(ChainHalves, AGroupsOddChainsGiveItsErrorWithoutChangingItsFilm) {
     EXPECT_EQ(got.count, double(st.width) * st.height * 3);
 }
 
+TEST(ChainHalves, TakingAGroupsImageGivesBackItsFilmsAndChangesNoBit) {
+    MltChains mlt(24, 18, 4, 9, 8);
+    auto runner = mlt.runner(mlt.start.plan, ChainRunner::FilmLayout::PerGroupWithHalves);
+    ProgressReporter progress(mlt.render.observer, "render", "mutations", 0);
+    runner->run(progress, 0);
+    const Image expected = runner->resolveGroupCombined(0);
+    ASSERT_GT(runner->halvesError(0).count, 0.0);
+
+    const Image taken = runner->takeGroupCombined(0);
+    EXPECT_EQ(taken.rgb, expected.rgb);
+    // Both of the group's films (its own and its odd half's) are gone, and with them its halves.
+    EXPECT_EQ(runner->film(0).width(), 0);
+    EXPECT_EQ(runner->film(1).width(), 0);
+    EXPECT_EQ(runner->halvesError(0).count, 0.0);
+}
+
 TEST(ChainHalves, ARequestedStopEndsTheRunAfterItsRound) {
     MltChains mlt(16, 12, 64, 2, 8);
     auto runner = mlt.runner(mlt.start.plan, ChainRunner::FilmLayout::PerGroup,
