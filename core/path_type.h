@@ -74,6 +74,17 @@ inline bool PathType::parse(const std::string& text, PathType& out) {
     return true;
 }
 
+/// Whether paths of type `t` belong to the direct-light class: every scattering vertex but the
+/// one next to the light is specular (L E, L S+ E, L D E, L D S+ E). mlt estimates this class per
+/// pixel by default (integrators/mlt/direct_light.h), and so do partitioned and guided when they
+/// choose their estimators (partition/partition.h).
+inline bool isDirectLightType(const PathType& t) {
+    // Camera order: vertex i = 0 is x1 (next to the eye), count - 1 the one next to the light.
+    for (int i = 0; i + 1 < t.scatteringVertices(); ++i)
+        if (!t.isSpecular(i)) return false;
+    return true;
+}
+
 }  // namespace partita
 
 template <>

@@ -38,22 +38,26 @@ bool hasPartitions(const std::string& algorithm) {
     return algorithm == "partitioned" || algorithm == "guided";
 }
 
-/// K of a partitioned method's job (its parameter "k", or the default).
+/// The partitions of a partitioned method's job: K (its parameter "k", or the default), the
+/// complement and, when the estimators are chosen with the direct light apart, the direct
+/// light's (partition/partition.h).
 int partitionsOf(const RenderSettings& s) {
-    return partitionedParameters().resolve(s.parameters).k;
+    const PartitionedSettings p = partitionedParameters().resolve(s.parameters);
+    const bool directApart = p.direct == "per-pixel" && p.estimators != "chains";
+    return std::max(0, p.k) + 1 + (directApart ? 1 : 0);
 }
 
 /// Films an algorithm holds at once: pt and bdpt two (bdpt's light tracing splats into its
 /// camera film), the second the combined sums of the odd sample indices (the error estimate's
 /// half B, sample_passes.h), whose estimate keeps two images more (12 bytes a pixel each,
-/// half_split_error.h), partitioned and guided two per partition group (K and the complement), which
+/// half_split_error.h), partitioned and guided two per partition (partitionsOf), which
 /// keep no type layers: its chains' and its odd chains' (the error estimate,
 /// mcmc/chain_runner.h's PerGroupWithHalves). mlt two: the chains' (with the type layers) and
 /// the odd half's combined image; with the direct light per pixel (its default) four: and the
 /// direct light's film (its types are not the chains', so the type buffers are counted once)
 /// and its error estimate's two images (12 bytes a pixel each, half_split_error.h).
 int filmCount(const std::string& algorithm, const RenderSettings& s) {
-    if (hasPartitions(algorithm)) return 2 * (std::max(0, partitionsOf(s)) + 1);
+    if (hasPartitions(algorithm)) return 2 * partitionsOf(s);
     if (algorithm == "mlt") return mltParameters().resolve(s.parameters).direct != "chains" ? 4 : 2;
     return 2;
 }
@@ -132,7 +136,7 @@ MltExtra partitionedExtraBytes(const RenderSettings& s) {
 /// The layers of the job's frames: the combined one and the type layers with "other"; for the
 /// partitioned methods one a partition (K + 1) and the combined one.
 int frameLayers(const std::string& algorithm, const RenderSettings& s) {
-    int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
+    int partitions = hasPartitions(algorithm) ? partitionsOf(s) : 0;
     return 1 + (partitions > 0 ? partitions : typeBuffers(algorithm, s));
 }
 
@@ -163,7 +167,7 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
         double((s.width + tile - 1) / tile * tile) * ((s.height + tile - 1) / tile * tile);
     double pixels = double(s.width) * s.height;
     int films = filmCount(algorithm, s);
-    int partitions = hasPartitions(algorithm) ? std::max(0, partitionsOf(s)) + 1 : 0;
+    int partitions = hasPartitions(algorithm) ? partitionsOf(s) : 0;
     int typeLayers = typeBuffers(algorithm, s);
     int layers = frameLayers(algorithm, s);
 
@@ -186,9 +190,8 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double splats = algorithm == "bdpt" ? bdptExtraBytes(pixels) : 0;
     // pt's and bdpt's layer survey (integrators/layer_survey.h): a film of every type over at
     // most kSurveyPixels pixels, allowed 128 type buffers a pixel.
-    double survey = samplePasses && typeLayers > 0
-                        ? std::min(pixels, double(kSurveyPixels)) * kSum * 128
-                        : 0;
+    double survey =
+        samplePasses && typeLayers > 0 ? std::min(pixels, double(kSurveyPixels)) * kSum * 128 : 0;
     MltExtra mlt{0, 0};
     if (algorithm == "mlt") mlt = mltExtraBytes(s);
     if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s);

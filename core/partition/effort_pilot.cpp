@@ -57,8 +57,12 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
                                       ? (uint64_t(1) << 40)
                                       : std::max<uint64_t>(4 * s.minMutationsPerChain,
                                                            uint64_t(pilotMpp * pixels / double(n)));
-    const ChainPlan plan = intoHalves(planPartitionChains(
-        ctx, sampler, prepass, partitions, std::vector<uint64_t>(n, perPartition), s, kPilotSalt));
+    // The direct light is per pixel whatever the pilots say: no chains to measure.
+    std::vector<uint64_t> counts(n, perPartition);
+    for (size_t g = 0; g < n; ++g)
+        if (partitions[g].direct) counts[g] = 0;
+    const ChainPlan plan =
+        intoHalves(planPartitionChains(ctx, sampler, prepass, partitions, counts, s, kPilotSalt));
     auto halfOf = [](uint32_t group) { return group / 2; };
     ChainRunner runner(
         ctx, plan, [&](uint32_t group) { return mutations(halfOf(group)); },
@@ -107,6 +111,7 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
     for (size_t g = 0; g < partitions.size(); ++g) {
         out.partitions[g].p = partitions[g].p;
         out.partitions[g].b = partitions[g].b;
+        out.partitions[g].alwaysPerPixel = partitions[g].direct;
     }
     if (choice != EstimatorChoice::Chains) {
         std::vector<PerPixelEstimator> estimators{PerPixelEstimator::Bdpt};

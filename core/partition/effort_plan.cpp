@@ -48,7 +48,9 @@ bool pixelsMayEstimate(const PartitionEffort& e) { return e.pixelVariance > 0 ||
 std::vector<bool> chooseAuto(const std::vector<PartitionEffort>& partitions, double pixelCost) {
     const size_t n = partitions.size();
     const std::vector<double> roots = chainRoots(partitions);
-    std::vector<bool> best(n, false);
+    std::vector<bool> always(n, false);
+    for (size_t g = 0; g < n; ++g) always[g] = partitions[g].alwaysPerPixel;
+    std::vector<bool> best = always;
     double bestValue = objective(roots, partitions, pixelCost, best);
     auto consider = [&](const std::vector<bool>& candidate) {
         const double value = objective(roots, partitions, pixelCost, candidate);
@@ -59,10 +61,10 @@ std::vector<bool> chooseAuto(const std::vector<PartitionEffort>& partitions, dou
     };
     std::vector<size_t> eligible;
     for (size_t g = 0; g < n; ++g)
-        if (pixelsMayEstimate(partitions[g])) eligible.push_back(g);
+        if (!always[g] && pixelsMayEstimate(partitions[g])) eligible.push_back(g);
     if (eligible.size() <= kExhaustivePartitions) {
         for (uint64_t mask = 1; mask < (uint64_t(1) << eligible.size()); ++mask) {
-            std::vector<bool> candidate(n, false);
+            std::vector<bool> candidate = always;
             for (size_t j = 0; j < eligible.size(); ++j)
                 if ((mask >> j) & 1u) candidate[eligible[j]] = true;
             consider(candidate);
@@ -74,7 +76,7 @@ std::vector<bool> chooseAuto(const std::vector<PartitionEffort>& partitions, dou
         const double va = partitions[a].pixelVariance, vb = partitions[b].pixelVariance;
         return roots[a] * vb > roots[b] * va;
     });
-    std::vector<bool> candidate(n, false);
+    std::vector<bool> candidate = always;
     for (size_t g : eligible) {
         candidate[g] = true;
         consider(candidate);
@@ -89,6 +91,7 @@ std::vector<bool> chooseAuto(const std::vector<PartitionEffort>& partitions, dou
 /// cost is only what its variance adds).
 std::string reasonOf(const PartitionEffort& e, double pixelCost, bool perPixel,
                      double otherPixelVariance, EstimatorChoice choice) {
+    if (e.alwaysPerPixel) return "per pixel: the direct light (direct=per-pixel)";
     if (choice == EstimatorChoice::Chains) return "chains: --estimators chains";
     if (choice == EstimatorChoice::PerPixel) return "per pixel: --estimators per-pixel";
     if (!pixelsMayEstimate(e)) return "chains: the per-pixel pilot saw none of its light";
@@ -132,6 +135,8 @@ EffortPlan planEffort(const std::vector<PartitionEffort>& partitions, double pix
         plan.perPixel = chooseAuto(partitions, pixelCost);
     else
         plan.perPixel.assign(n, choice == EstimatorChoice::PerPixel);
+    for (size_t g = 0; g < n && neyman; ++g)
+        if (partitions[g].alwaysPerPixel) plan.perPixel[g] = true;
 
     bool anyPixel = false;
     double pixelVariance = 0;

@@ -19,7 +19,8 @@
 // over every subset when there are at most kExhaustivePartitions partitions, else over the
 // prefixes of the partitions ranked by sqrt(A_g) / V_g (the relaxed problem's solution). A
 // partition the per-pixel pilot did not see (V_g = 0 with b_g > 0: none of its light reached a
-// pilot sample) keeps its chains: two samples cannot vouch for it. Ties keep chains.
+// pilot sample) keeps its chains: two samples cannot vouch for it. Ties keep chains. A partition
+// `alwaysPerPixel` (the direct light) is in S whatever the choice.
 //
 // "p" is the paper's Eq. 10: every partition has chains, their mutations in proportion to P(i).
 #pragma once
@@ -36,11 +37,12 @@ EstimatorChoice parseEstimatorChoice(const std::string& name);
 
 /// A partition's measured inputs (see above).
 struct PartitionEffort {
-    double p = 0;              // P(i)
-    double b = 0;              // b_i
-    double chainVariance = 0;  // v_g: chain error times mutations
-    double mutationCost = 0;   // c_g
-    double pixelVariance = 0;  // V_g: the per-pixel error with one sample of every pixel
+    double p = 0;                 // P(i)
+    double b = 0;                 // b_i
+    double chainVariance = 0;     // v_g: chain error times mutations
+    double mutationCost = 0;      // c_g
+    double pixelVariance = 0;     // V_g: the per-pixel error with one sample of every pixel
+    bool alwaysPerPixel = false;  // the direct light (partition.h): per pixel whatever the choice
 };
 
 struct EffortPlan {

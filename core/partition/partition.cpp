@@ -12,6 +12,8 @@
 namespace partita {
 
 bool Partition::holds(const PathType& t) const {
+    if (direct) return isDirectLightType(t);
+    if (directApart && isDirectLightType(t)) return false;
     const bool listed = std::any_of(patterns.begin(), patterns.end(),
                                     [&](const TypePattern& p) { return p.matches(t); });
     return complement ? !listed : listed;
@@ -68,19 +70,45 @@ Candidate candidateOf(const PrepassResult& prepass, TypePattern pattern,
     return c;
 }
 
-/// Every type the pre-pass saw, in either half, in type order.
-std::vector<PathType> typesSeen(const PrepassResult& prepass) {
+/// Every type the pre-pass saw, in either half, in type order; with `directApart`, only those
+/// outside the direct-light class.
+std::vector<PathType> typesSeen(const PrepassResult& prepass, bool directApart) {
     std::set<PathType> seen;
     for (const auto& [t, g] : prepass.gamma) seen.insert(t);
     for (const auto& [t, b] : prepass.sumB) seen.insert(t);
-    return {seen.begin(), seen.end()};
+    std::vector<PathType> out;
+    for (const PathType& t : seen)
+        if (!directApart || !isDirectLightType(t)) out.push_back(t);
+    return out;
 }
 
-std::vector<Candidate> exactCandidates(const PrepassResult& prepass) {
+std::vector<Candidate> exactCandidates(const PrepassResult& prepass, bool directApart) {
     std::vector<Candidate> out;
     for (const auto& [t, gamma] : prepass.gamma)
-        out.push_back(candidateOf(prepass, TypePattern::exactly(t), {t}));
+        if (!directApart || !isDirectLightType(t))
+            out.push_back(candidateOf(prepass, TypePattern::exactly(t), {t}));
     return out;
+}
+
+/// The direct-light class's partition: gamma and b summed over its types (b's error type by
+/// type, as a class's).
+Partition directPartition(const PrepassResult& prepass) {
+    Partition p;
+    p.label = kDirectLabel;
+    p.direct = true;
+    p.perPixel = true;
+    double sumB = 0, sumSquares = 0;
+    for (const auto& [t, g] : prepass.gamma)
+        if (isDirectLightType(t)) p.gamma += g;
+    for (const auto& [t, b] : prepass.sumB)
+        if (isDirectLightType(t)) {
+            sumB += b;
+            sumSquares += valueOr0(prepass.sumSquaresB, t);
+        }
+    const double nB = double(std::max<uint64_t>(1, prepass.samplesB));
+    p.b = sumB / nB;
+    p.bError = relativeError(sumB, sumSquares, nB);
+    return p;
 }
 
 /// The split of c at an open run that divides its gamma most evenly, both pieces usable;
@@ -106,10 +134,10 @@ bool bestSplit(const PrepassResult& prepass, const Candidate& c, double maxRelat
 
 /// Classes: one per run structure, then the usable one of largest gamma split until k are
 /// usable (or none splits).
-std::vector<Candidate> classCandidates(const PrepassResult& prepass, int k,
-                                       double maxRelativeError) {
+std::vector<Candidate> classCandidates(const PrepassResult& prepass, int k, double maxRelativeError,
+                                       bool directApart) {
     std::map<TypePattern, std::vector<PathType>> byStructure;
-    for (const PathType& t : typesSeen(prepass))
+    for (const PathType& t : typesSeen(prepass, directApart))
         byStructure[TypePattern::structureOf(t)].push_back(t);
     std::vector<Candidate> out;
     for (auto& [pattern, members] : byStructure)
@@ -142,21 +170,29 @@ std::vector<Candidate> classCandidates(const PrepassResult& prepass, int k,
 }  // namespace
 
 std::vector<Partition> makePartitions(const PrepassResult& prepass, int k, double maxRelativeError,
-                                      PartitionShape shape) {
+                                      PartitionShape shape, bool directApart) {
+    // A direct-light class the pre-pass never saw is no partition, and then no other partition
+    // leaves it out: path space stays covered exactly once.
+    const Partition direct = directPartition(prepass);
+    directApart = directApart && (direct.gamma > 0 || direct.b > 0);
     std::vector<Candidate> ranked = shape == PartitionShape::Classes
-                                        ? classCandidates(prepass, k, maxRelativeError)
-                                        : exactCandidates(prepass);
+                                        ? classCandidates(prepass, k, maxRelativeError, directApart)
+                                        : exactCandidates(prepass, directApart);
     // Largest gamma first; the candidates' order (pattern or type order) breaks ties.
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const Candidate& a, const Candidate& b) { return a.gamma > b.gamma; });
     const double nB = double(std::max<uint64_t>(1, prepass.samplesB));
     std::vector<Partition> out;
+    if (directApart) out.push_back(direct);
+    const int most = k + int(out.size());
     Partition complement;
     complement.label = kComplementLabel;
     complement.complement = true;
+    complement.directApart = directApart;
     for (const Candidate& c : ranked) {
-        if (int(out.size()) < k && c.usable(prepass, maxRelativeError)) {
+        if (int(out.size()) < most && c.usable(prepass, maxRelativeError)) {
             Partition p;
+            p.directApart = directApart;
             p.label = c.pattern.toString();
             p.patterns = {c.pattern};
             p.gamma = c.gamma;

@@ -31,12 +31,19 @@ struct Partition {
     double bError = 0;      // its relative standard error from half B's spread (the complement's
                             // summed type by type, as a class's)
     bool perPixel = false;  // estimated per pixel by restricted BDPT, not by chains (issue #23 1)
+    /// The direct-light class (isDirectLightType: L S* E, L D S* E), always estimated per pixel,
+    /// as mlt does by default: a path tracer's best case and the chains' worst (issue #22 1).
+    bool direct = false;
+    /// The direct-light class is a partition of its own: this one holds none of its types
+    /// (every partition of a set with a `direct` one; the complement too).
+    bool directApart = false;
 
     /// Whether a path of type t belongs here (the chains' restriction).
     bool holds(const PathType& t) const;
 };
 
 inline constexpr const char* kComplementLabel = "complement";
+inline constexpr const char* kDirectLabel = "direct";
 
 /// The bound on the relative standard error of a partition's b (the file's comment).
 inline constexpr double kMaxBRelativeError = 0.15;
@@ -48,7 +55,10 @@ enum class PartitionShape { Types, Classes };
 PartitionShape parsePartitionShape(const std::string& name);
 
 /// The partitions of `prepass` with up to `k` of their own (k = 0: the complement alone, which
-/// is all of path space), ordered by decreasing gamma, the complement last.
+/// is all of path space), ordered by decreasing gamma, the complement last. With `directApart`,
+/// the direct-light class comes first as a partition of its own (not counted in k, always per
+/// pixel, dropped when the pre-pass saw none of it), and the others are made of the other types
+/// only.
 /// Types: the k exact types of largest gamma. Classes (issue #23 2): the types grouped by run
 /// structure (TypePattern::structureOf), then, while there are fewer than k classes, the class
 /// of largest gamma split at the open run that divides its gamma most evenly ("LD+E" into
@@ -56,7 +66,8 @@ PartitionShape parsePartitionShape(const std::string& name);
 /// relative error above the bound goes to the complement.
 std::vector<Partition> makePartitions(const PrepassResult& prepass, int k,
                                       double maxRelativeError = kMaxBRelativeError,
-                                      PartitionShape shape = PartitionShape::Types);
+                                      PartitionShape shape = PartitionShape::Types,
+                                      bool directApart = false);
 
 /// The complement's share of the sum of b over all partitions (0 without a complement).
 double complementShareOfB(const std::vector<Partition>& partitions);

@@ -260,8 +260,11 @@ PartitionedStart startPartitioned(const RenderContext& ctx,
     ctx.throwIfCancelled();
 
     PartitionedStart out;
+    // The direct light apart when the estimators are chosen (pipeline_settings.h, "direct").
+    const bool directApart = settings.direct == "per-pixel" &&
+                             parseEstimatorChoice(settings.estimators) != EstimatorChoice::Chains;
     out.partitions = makePartitions(prepass, settings.k, kMaxBRelativeError,
-                                    parsePartitionShape(settings.partitions));
+                                    parsePartitionShape(settings.partitions), directApart);
     RenderStats setupStats;
     out.prepared = mutations.prepare(ctx, prepass, out.partitions, setupStats);
     ctx.throwIfCancelled();
@@ -308,6 +311,8 @@ void putPartition(ByteWriter& w, const Partition& p) {
     w.put(p.b);
     w.put(p.bError);
     w.put(uint8_t(p.perPixel));
+    w.put(uint8_t(p.direct));
+    w.put(uint8_t(p.directApart));
 }
 
 Partition getPartition(ByteReader& r) {
@@ -325,6 +330,8 @@ Partition getPartition(ByteReader& r) {
     p.b = r.get<double>();
     p.bError = r.get<double>();
     p.perPixel = r.get<uint8_t>() != 0;
+    p.direct = r.get<uint8_t>() != 0;
+    p.directApart = r.get<uint8_t>() != 0;
     return p;
 }
 

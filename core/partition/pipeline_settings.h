@@ -38,6 +38,10 @@ struct PartitionPipelineSettings {
     /// The budget across partitions: "neyman" (by measured error per cost, effort_plan.h) or
     /// "p" (the paper's Eq. 10: mutations in proportion to P(i); every partition has chains).
     std::string allocation = "p";
+    /// "per-pixel": with estimators other than "chains", the direct-light class (L S* E,
+    /// L D S* E) is a partition of its own estimated per pixel, as mlt's `direct` default, and
+    /// the other partitions hold the other types; "chains": it stays with the types.
+    std::string direct = "per-pixel";
     /// The chains' pilot's share of the budget (of the mutations, or of the time left after the
     /// pre-pass).
     double pilotShare = 0.05;
@@ -87,6 +91,13 @@ void addPipelineParameters(SettingsTable<S>& t) {
                         "other estimators always use neyman)")
               .withChoices({"neyman", "p"}),
           &PartitionPipelineSettings::allocation);
+    t.add(ParameterSpec("direct",
+                        "with estimators auto or per-pixel: per-pixel (the direct light, L S* E "
+                        "and L D S* E, is a partition of its own, always estimated per pixel, as "
+                        "mlt does) or chains (it stays with the other types); estimators=chains "
+                        "leaves it with them")
+              .withChoices({"per-pixel", "chains"}),
+          &PartitionPipelineSettings::direct);
     t.add(ParameterSpec("pilot_share",
                         "the chains' pilot's share of the budget (mutations, at most 4 per "
                         "pixel, or the time after the pre-pass); its chains are not part of the "

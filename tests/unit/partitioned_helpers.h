@@ -48,7 +48,8 @@ inline RenderSettings tinySettings(double budget, uint64_t seed, BudgetKind kind
 /// The pre-pass and partitions of a scene, as `partitioned` makes them.
 inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint64_t seed,
                                            uint64_t samples,
-                                           PartitionShape shape = PartitionShape::Types) {
+                                           PartitionShape shape = PartitionShape::Types,
+                                           bool directApart = false) {
     Camera camera(resolveCamera(scene.data(), ""), kWidth, kHeight);
     RenderSettings st = tinySettings(1, seed, BudgetKind::MutationsPerPixel);
     ThreadPool pool(2);
@@ -59,7 +60,8 @@ inline std::vector<Partition> partitionsOf(const RenderScene& scene, int k, uint
     BootstrapSampler sampler(
         scene, camera, kMaxDepth, seed,
         choosePrepassEstimator(scene, PartitionPipelineSettings{}.prepass, why));
-    return makePartitions(runPrepass(ctx, sampler, samples), k, kMaxBRelativeError, shape);
+    return makePartitions(runPrepass(ctx, sampler, samples), k, kMaxBRelativeError, shape,
+                          directApart);
 }
 
 /// Per block, the mean luminance of `image`.
@@ -85,14 +87,17 @@ inline Image partitionReference(const LayeredImage& bdpt, const Partition& p) {
     return sum;
 }
 
-/// The partitions a render made, from its statistics (partition_<g>_type): the patterns (one
-/// type or a class), then the complement of them all (when it has one).
+/// The partitions a render made, from its statistics (partition_<g>_type): the direct light
+/// (when apart), the patterns (one type or a class), then the complement of them all (when it
+/// has one).
 inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
     std::vector<Partition> out;
     Partition complement;
     complement.label = kComplementLabel;
     complement.complement = true;
     int count = int(r.stats.values["partitions"]);
+    const bool directApart = count > 0 && r.stats.labels["partition_0_type"] == kDirectLabel;
+    complement.directApart = directApart;
     for (int g = 0; g < count; ++g) {
         std::string label = r.stats.labels["partition_" + std::to_string(g) + "_type"];
         if (label == kComplementLabel) {
@@ -100,6 +105,14 @@ inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
             continue;
         }
         Partition p;
+        p.directApart = directApart;
+        if (label == kDirectLabel) {
+            p.label = label;
+            p.direct = true;
+            p.directApart = false;
+            out.push_back(p);
+            continue;
+        }
         p.label = label;
         TypePattern pattern;
         EXPECT_TRUE(TypePattern::parse(label, pattern)) << label;
@@ -113,6 +126,7 @@ inline std::vector<Partition> partitionsOfRender(RenderResult& r) {
 /// How many partitions (over all seeds) had chains and how many were estimated per pixel.
 struct EstimatorCounts {
     int chains = 0, perPixel = 0;
+    int direct = 0;  // the direct light's partitions (per pixel, counted in perPixel too)
 };
 
 /// Each partition's image (and the combined one) against the BDPT reference of its types, per
@@ -134,6 +148,8 @@ inline EstimatorCounts expectPartitionsConverge(
             const std::string kind =
                 r.stats.labels["partition_" + std::to_string(g) + "_estimator"];
             ++(kind == "per-pixel" ? counts.perPixel : counts.chains);
+            counts.direct +=
+                r.stats.labels["partition_" + std::to_string(g) + "_type"] == kDirectLabel;
         }
         LayeredImage bdpt =
             test::renderWith(scene, "bdpt",

@@ -48,13 +48,6 @@ Vec2f scrambledSobol(uint32_t n, uint32_t scrambleX, uint32_t scrambleY) {
 
 }  // namespace
 
-bool isDirectLightType(const PathType& t) {
-    // Camera order: vertex i = 0 is x1 (next to the eye), count - 1 the one next to the light.
-    for (int i = 0; i + 1 < t.scatteringVertices(); ++i)
-        if (!t.isSpecular(i)) return false;
-    return true;
-}
-
 PathRestriction indirectLightOnly() {
     return [](const PathType& t) { return !isDirectLightType(t); };
 }

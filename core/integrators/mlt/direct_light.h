@@ -37,10 +37,6 @@ namespace partita {
 
 class ProgressReporter;
 
-/// Whether paths of type `t` belong to the direct-light class: every scattering vertex but the
-/// one next to the light is specular (L E, L S+ E, L D E, L D S+ E).
-bool isDirectLightType(const PathType& t);
-
 /// The chains' restriction when direct light is estimated per pixel: every type that is not in
 /// the direct-light class.
 PathRestriction indirectLightOnly();

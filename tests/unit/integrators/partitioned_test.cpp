@@ -35,11 +35,29 @@ TEST(Partitioned, PartitionsCoverPathSpaceExactlyOnce) {
     RenderScene scene = loadScene("cornell-glass");
     LayeredImage bdpt =
         test::renderWith(scene, "bdpt", tinySettings(64, 1, BudgetKind::SamplesPerPixel)).image;
-    for (PartitionShape shape : {PartitionShape::Types, PartitionShape::Classes}) {
-        SCOPED_TRACE(shape == PartitionShape::Types ? "types" : "classes");
-        std::vector<Partition> partitions = partitionsOf(scene, 10, 3, 20000, shape);
-        ASSERT_EQ(partitions.size(), 11u);
+    for (auto [shape, directApart] :
+         {std::pair{PartitionShape::Types, false}, std::pair{PartitionShape::Classes, false},
+          std::pair{PartitionShape::Types, true}, std::pair{PartitionShape::Classes, true}}) {
+        SCOPED_TRACE(testing::Message() << (shape == PartitionShape::Types ? "types" : "classes")
+                                        << (directApart ? ", direct light apart" : ""));
+        std::vector<Partition> partitions = partitionsOf(scene, 10, 3, 20000, shape, directApart);
+        ASSERT_EQ(partitions.size(), directApart ? 12u : 11u);
         EXPECT_TRUE(partitions.back().complement);
+        // The direct light apart: first, per pixel, exactly its class; no other holds any of it.
+        EXPECT_EQ(partitions.front().direct, directApart);
+        if (directApart) {
+            EXPECT_EQ(partitions.front().label, kDirectLabel);
+            EXPECT_TRUE(partitions.front().perPixel);
+            size_t direct = 0;
+            for (const ImageLayer& layer : bdpt.layers) {
+                PathType t;
+                ASSERT_TRUE(PathType::parse(layer.name, t)) << layer.name;
+                EXPECT_EQ(partitions.front().holds(t), isDirectLightType(t)) << layer.name;
+                direct += isDirectLightType(t);
+            }
+            EXPECT_GT(direct, 0u);  // both kinds occur: the check above can fail either way
+            EXPECT_LT(direct, bdpt.layers.size());
+        }
         // Every type of the reference lies in exactly one partition ...
         for (const ImageLayer& layer : bdpt.layers) {
             PathType t;
@@ -179,10 +197,22 @@ TEST(Partitioned, BiAgreesWithAnIndependentEstimatePerPartition) {
 /// `auto` (issue #23 1): each partition by the estimator its pilots choose; the mixture of
 /// chain and per-pixel partitions converges partition by partition and combined.
 TEST(Partitioned, PartitionsConvergeOnCornellGlass) {
-    const EstimatorCounts counts = expectPartitionsConverge("partitioned", "cornell-glass", 64, 64,
-                                                            10, {{"estimators", "auto"}});
+    // The direct light with the types: on cornell-glass auto then mixes chains and per-pixel
+    // partitions (with it apart, everything goes per pixel there).
+    const EstimatorCounts counts = expectPartitionsConverge(
+        "partitioned", "cornell-glass", 64, 64, 10, {{"estimators", "auto"}, {"direct", "chains"}});
     EXPECT_GT(counts.chains, 0);
     EXPECT_GT(counts.perPixel, 0);
+}
+
+/// auto's default: the direct light a partition of its own, per pixel, the other partitions
+/// holding none of it; a mixture of chains and per-pixel partitions on door-ajar.
+TEST(Partitioned, PartitionsWithTheDirectLightApartConvergeOnDoorAjar) {
+    const EstimatorCounts counts =
+        expectPartitionsConverge("partitioned", "door-ajar", 64, 64, 10, {{"estimators", "auto"}});
+    EXPECT_GT(counts.chains, 0);
+    EXPECT_GT(counts.perPixel, 0);
+    EXPECT_EQ(counts.direct, 10);  // every seed's render has it
 }
 
 /// The paper's method exactly: chains for every partition, mutations by Eq. 10.

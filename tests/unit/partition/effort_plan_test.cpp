@@ -121,6 +121,34 @@ TEST(EffortPlan, AutoIsTheBestSubsetAndKeepsChainsWhereThePilotSawNothing) {
     EXPECT_THROW(parseEstimatorChoice("bdpt"), std::invalid_argument);
 }
 
+TEST(EffortPlan, TheDirectLightIsPerPixelWhateverItsChainsWouldGive) {
+    std::vector<PartitionEffort> parts = syntheticPartitions();
+    const double pixelCost = 1.5;
+    // Partition 0's chains made cheap and precise: auto would keep them ...
+    parts[0].chainVariance = 1e-6;
+    ASSERT_FALSE(planEffort(parts, pixelCost, EstimatorChoice::Auto, true).perPixel[0]);
+    // ... unless it is the direct light: then per pixel, and the rest is still the best subset.
+    parts[0].alwaysPerPixel = true;
+    const EffortPlan plan = planEffort(parts, pixelCost, EstimatorChoice::Auto, true);
+    EXPECT_TRUE(plan.perPixel[0]);
+    EXPECT_GT(plan.pixelShare, 0.0);
+    EXPECT_NE(plan.reason[0].find("direct"), std::string::npos) << plan.reason[0];
+    for (uint32_t mask = 0; mask < 8; ++mask) {
+        std::vector<bool> perPixel{true, bool(mask & 1u), bool(mask & 2u), bool(mask & 4u)};
+        double roots = 0, pixels = 0;
+        for (size_t g = 0; g < 4; ++g)
+            if (perPixel[g])
+                pixels += parts[g].pixelVariance;
+            else
+                roots += std::sqrt(parts[g].chainVariance * parts[g].mutationCost);
+        roots += std::sqrt(pixelCost * pixels);
+        EXPECT_LE(plan.errorTimesCost, roots * roots * (1 + 1e-12)) << mask;
+    }
+    // Even when every other partition is forced to chains by the choice.
+    EXPECT_EQ(planEffort(parts, pixelCost, EstimatorChoice::Chains, true).perPixel,
+              (std::vector<bool>{true, false, false, false}));
+}
+
 TEST(EffortPlan, ManyPartitionsUseTheRankedPrefixes) {
     // More partitions than the exhaustive search takes: the ranked prefixes, never worse than
     // all chains or all per pixel.
