@@ -201,9 +201,10 @@ AlgorithmRun runAlgorithm(const RenderOptions& r, const QualityOptions& o, const
 }
 
 /// The error of a render without partition layers (mlt, pt) on the partitions of `partitioned`'s
-/// render of the same seed: its type layers of the partitions' types, and as the complement its
-/// combined image minus those. A seed is left out when its render merged one of the types into
-/// "other" (they cannot be told apart there); a type it lacks with no "other" is black.
+/// render of the same seed: its layers of the partitions' types (summed for a class or the direct
+/// light, eval/partition_error.h partitionLayer), and as the complement its combined image minus
+/// those. A seed is left out when its render may hold part of a partition in "other" (it cannot
+/// be told apart there); a type it lacks with no "other" is black.
 void decomposeIntoPartitions(AlgorithmRun& run, const std::vector<LayeredImage>& images,
                              const AlgorithmRun& partitioned, const Reference& ref) {
     run.partitionsOf = partitioned.algorithm;
@@ -215,21 +216,22 @@ void decomposeIntoPartitions(AlgorithmRun& run, const std::vector<LayeredImage>&
             if (p.seed == seed.seed && !p.partitions.empty()) twin = &p;
         if (!twin) continue;
         std::vector<std::string> names;
-        for (const auto& e : twin->partitions) names.push_back(e.layer);
+        bool directApart = false;
+        for (const auto& e : twin->partitions) {
+            names.push_back(e.layer);
+            directApart = directApart || e.layer == kDirectLabel;
+        }
         LayeredImage d;
         d.combined = image.combined;
         Image complement = image.combined;
         bool separable = true;
         for (const auto& name : names) {
             if (name == kComplementLabel) continue;
-            const Image* layer = image.layer(name);
-            if (!layer && image.layer(Film::kOtherLayer)) separable = false;
-            if (!layer) {
-                d.layers.push_back({name, Image(image.combined.width, image.combined.height)});
-                continue;
-            }
-            for (size_t i = 0; i < complement.rgb.size(); ++i) complement.rgb[i] -= layer->rgb[i];
-            d.layers.push_back({name, *layer});
+            bool complete = true;
+            Image layer = partitionLayer(image, name, directApart, complete);
+            separable = separable && (complete || !image.layer(Film::kOtherLayer));
+            for (size_t i = 0; i < complement.rgb.size(); ++i) complement.rgb[i] -= layer.rgb[i];
+            d.layers.push_back({name, std::move(layer)});
         }
         if (!separable) continue;
         d.layers.push_back({kComplementLabel, std::move(complement)});

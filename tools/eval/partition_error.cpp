@@ -41,32 +41,33 @@ std::vector<std::string> partitionLabels(const std::map<std::string, std::string
     }
 }
 
-namespace {
-
-/// The reference of one partition (not the complement): the reference's layer of its type, or
-/// for a class the sum of the reference's layers of the types it holds. `complete` false when
-/// the reference may hide some of it in "other" (or lacks the type).
-Image partitionReference(const LayeredImage& reference, const std::string& name, bool& complete) {
-    if (const Image* layer = name == Film::kOtherLayer ? nullptr : reference.layer(name)) {
+Image partitionLayer(const LayeredImage& image, const std::string& name, bool directApart,
+                     bool& complete) {
+    if (const Image* layer = name == Film::kOtherLayer ? nullptr : image.layer(name)) {
         complete = true;
         return *layer;
     }
-    Image sum(reference.combined.width, reference.combined.height);
-    TypePattern pattern;
+    Image sum(image.combined.width, image.combined.height);
     complete = false;
-    if (name == Film::kOtherLayer || !TypePattern::parse(name, pattern) || pattern.isExact())
-        return sum;  // a type the reference lacks: black
-    for (const ImageLayer& layer : reference.layers) {
+    TypePattern pattern;
+    const bool direct = name == kDirectLabel;
+    if (!direct &&
+        (name == Film::kOtherLayer || !TypePattern::parse(name, pattern) || pattern.isExact()))
+        return sum;  // a type the image lacks: black
+    for (const ImageLayer& layer : image.layers) {
         PathType t;
-        if (!PathType::parse(layer.name, t) || !pattern.matches(t)) continue;
+        if (!PathType::parse(layer.name, t)) continue;
+        // The direct partition holds the direct-light types; with it apart, a class holds the
+        // others it matches (partition/partition.h, Partition::holds).
+        const bool held = direct ? isDirectLightType(t)
+                                 : pattern.matches(t) && !(directApart && isDirectLightType(t));
+        if (!held) continue;
         for (size_t i = 0; i < sum.rgb.size() && i < layer.image.rgb.size(); ++i)
             sum.rgb[i] += layer.image.rgb[i];
     }
-    complete = !reference.layer(Film::kOtherLayer);
+    complete = !image.layer(Film::kOtherLayer);
     return sum;
 }
-
-}  // namespace
 
 std::vector<PartitionError> partitionErrors(const LayeredImage& render,
                                             const std::vector<std::string>& partitions,
@@ -80,12 +81,15 @@ std::vector<PartitionError> partitionErrors(const LayeredImage& render,
     // reference then holds that part too: not a reference of the complement.
     std::vector<Image> references;
     std::vector<bool> complete;
+    bool directApart = false;
+    for (const auto& name : partitions) directApart = directApart || name == kDirectLabel;
     Image rest = refCombined;
     bool restComplete = true;
     for (const auto& name : partitions) {
         bool whole = true;
-        references.push_back(name == kComplementLabel ? Image(refCombined.width, refCombined.height)
-                                                      : partitionReference(reference, name, whole));
+        references.push_back(name == kComplementLabel
+                                 ? Image(refCombined.width, refCombined.height)
+                                 : partitionLayer(reference, name, directApart, whole));
         complete.push_back(whole);
         if (name == kComplementLabel) continue;
         restComplete = restComplete && whole;

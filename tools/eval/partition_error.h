@@ -3,7 +3,8 @@
 // complementary partition's layer "complement" (integrators/partitioned); its statistics name
 // them in order (labels partition_<g>_type). The reference of a one-type partition is the
 // reference's layer of that type (references keep every type: `--layers 1024`), of a class
-// ("LS+DE", partition/type_pattern.h) the sum of its types' layers; the reference
+// ("LS+DE", partition/type_pattern.h) the sum of its types' layers, of the direct light's
+// partition ("direct") the sum of the direct-light types' layers; the reference
 // of the complement is the reference's combined image minus its layers of the render's K types,
 // i.e. everything else, its "other" included.
 //
@@ -36,6 +37,15 @@ struct PartitionError {
 /// The partitions of a render from its statistics' labels: partition_0_type, partition_1_type,
 /// ... in order, until the first index that is missing. Empty for a render without partitions.
 std::vector<std::string> partitionLabels(const std::map<std::string, std::string>& labels);
+
+/// The part of `image` that partition `name` holds: its layer when `image` has one (a
+/// partitioned render, or a reference's layer of a one-type partition); else the sum of the
+/// layers of the types it holds: a class's types (less the direct-light types when
+/// `directApart`, the render having the partition "direct"), or for "direct" the direct-light
+/// types (path_type.h, isDirectLightType). `complete` false when part of it may lie in the
+/// image's "other" (or it is a type the image lacks: black).
+Image partitionLayer(const LayeredImage& image, const std::string& name, bool directApart,
+                     bool& complete);
 
 /// The error of each partition's layer of `render` (in the order of `partitions`) against its
 /// reference (above). std::invalid_argument when the render lacks a partition's layer or the

@@ -71,6 +71,30 @@ TEST(PartitionError, AClassIsComparedWithTheSumOfItsTypes) {
     EXPECT_FALSE(e[1].inReference);
 }
 
+TEST(PartitionError, TheDirectLightIsItsTypesAndAClassBesideItHoldsNoneOfThem) {
+    // Partitions direct (LDE, LSE: the direct-light types), LD+E (LDDE only: LDE is direct) and
+    // the complement (LSDE), as partitioned renders them with the direct light apart.
+    LayeredImage ref = reference();
+    ref.layers.push_back({"LSE", filled(8)});
+    ref.combined = filled(15);
+    LayeredImage render;
+    render.layers = {{"direct", filled(9.5f)}, {"LD+E", filled(4)}, {"complement", filled(2)}};
+    render.combined = filled(15.5f);
+    auto e = partitionErrors(render, {"direct", "LD+E", "complement"}, ref);
+    ASSERT_EQ(e.size(), 3u);
+    EXPECT_TRUE(e[0].inReference);
+    EXPECT_NEAR(e[0].rmse, 0.5, 1e-12);  // 9.5 against LDE + LSE = 9
+    EXPECT_NEAR(e[1].rmse, 0.0, 1e-12);  // 4 against LDDE, not LDE + LDDE
+    EXPECT_NEAR(e[2].rmse, 0.0, 1e-12);  // 2 against 15 - 9 - 4
+    // A render without partition layers (mlt) split the same way.
+    bool complete = false;
+    Image direct = partitionLayer(ref, "direct", true, complete);
+    EXPECT_TRUE(complete);
+    EXPECT_EQ(direct.rgb[0], 9.0f);
+    EXPECT_EQ(partitionLayer(ref, "LD+E", true, complete).rgb[0], 4.0f);
+    EXPECT_EQ(partitionLayer(ref, "LD+E", false, complete).rgb[0], 5.0f);
+}
+
 TEST(PartitionError, ATypeTheReferenceLacksIsComparedWithBlack) {
     LayeredImage render;
     render.layers = {{"LSSDE", filled(0.5f)}, {"complement", filled(7)}};
