@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "algorithm.h"
 #include "film.h"
@@ -41,6 +42,10 @@ class SamplePassRenderer {
     virtual void addStats(RenderStats& stats, double seconds) const = 0;
     /// The most samples per pixel one pass may take (bounds per-pass buffers).
     virtual uint64_t maxPassSamples() const { return 1024; }
+    /// From now on, render only the film tiles `tiles` lists (row-major tile indices,
+    /// ascending): a pilot that looks at part of the image (partition/effort_pilot.h), paying
+    /// for those tiles' time and memory only. Empty: every tile (the default).
+    virtual void renderOnlyTiles(std::vector<size_t> tiles) = 0;
     /// From now on, also sum the odd sample indices' contributions apart, in a combined-only
     /// film: the error estimate's half B (half_split_error.h). Called by the sample-pass loop
     /// before its first pass; shards and surveys, which estimate no error, never pay for it.

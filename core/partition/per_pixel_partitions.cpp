@@ -1,6 +1,7 @@
 #include "partition/per_pixel_partitions.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "clock.h"
 #include "half_split_error.h"
@@ -8,6 +9,7 @@
 #include "integrators/bdpt/bdpt_passes.h"
 #include "integrators/pt/pt_integrator.h"
 #include "progress_reporter.h"
+#include "rng.h"
 
 namespace partita {
 
@@ -85,13 +87,50 @@ uint64_t PerPixelPartitions::rays() const {
     return uint64_t(stats.values["rays"]);
 }
 
+void PerPixelPartitions::renderOnlyTiles(std::vector<size_t> tiles) {
+    passes_->renderOnlyTiles(std::move(tiles));
+}
+
+std::vector<size_t> perPixelPilotTiles(int width, int height, double& pixels) {
+    const int tilesX = (width + Film::kTileSize - 1) / Film::kTileSize;
+    const int tilesY = (height + Film::kTileSize - 1) / Film::kTileSize;
+    pixels = double(width) * double(height);
+    const size_t stride = size_t(std::ceil(pixels / kPerPixelPilotPixels));
+    if (stride <= 1) return {};
+    auto tilePixels = [&](size_t t) {
+        const int x0 = int(t % size_t(tilesX)) * Film::kTileSize;
+        const int y0 = int(t / size_t(tilesX)) * Film::kTileSize;
+        return double(std::min(Film::kTileSize, width - x0)) *
+               double(std::min(Film::kTileSize, height - y0));
+    };
+    std::vector<size_t> kept;
+    pixels = 0;
+    for (size_t t = 0; t < size_t(tilesX) * size_t(tilesY); ++t) {
+        if (mix64(t + 0x9117) % stride != 0) continue;
+        kept.push_back(t);
+        pixels += tilePixels(t);
+    }
+    if (kept.empty()) {
+        kept.push_back(0);
+        pixels = tilePixels(0);
+    }
+    return kept;
+}
+
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
                                PerPixelEstimator estimator, uint64_t first,
                                ProgressReporter& progress) {
     auto begin = Clock::now();
     std::vector<Partition> all = partitions;
     for (Partition& p : all) p.perPixel = true;
+    double pilotPixels = 0;
+    const std::vector<size_t> tiles =
+        perPixelPilotTiles(ctx.settings.width, ctx.settings.height, pilotPixels);
+    // Sums over the pilot's pixels stand for the image's: scaled by the ratio of their counts.
+    const double scale = double(ctx.settings.width) * ctx.settings.height / pilotPixels;
     PerPixelPartitions a(ctx, all, estimator), b(ctx, all, estimator);
+    a.renderOnlyTiles(tiles);
+    b.renderOnlyTiles(tiles);
     a.renderPass({first, first + 1}, progress);
     b.renderPass({first + 1, first + 2}, progress);
     const std::vector<Image> ia = a.images(1), ib = b.images(1);
@@ -99,12 +138,12 @@ PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Parti
     out.variance.assign(partitions.size(), 0);
     out.varianceRgb.assign(partitions.size(), 0);
     for (size_t g = 0; g < partitions.size(); ++g) {
-        out.variance[g] = luminanceSquaredDifference(ia[g], ib[g]) / 2;
+        out.variance[g] = scale * luminanceSquaredDifference(ia[g], ib[g]) / 2;
         // halvesError's is the variance of the two samples' mean: one sample's is twice it.
-        out.varianceRgb[g] = 2 * halvesError(ia[g], ib[g], 1, 1).variance;
+        out.varianceRgb[g] = scale * 2 * halvesError(ia[g], ib[g], 1, 1).variance;
     }
-    out.raysPerSample = double(a.rays() + b.rays()) / 2;
-    out.secondsPerSample = secondsSince(begin) / 2;
+    out.raysPerSample = scale * double(a.rays() + b.rays()) / 2;
+    out.secondsPerSample = scale * secondsSince(begin) / 2;
     return out;
 }
 

@@ -45,6 +45,8 @@ class PerPixelPartitions {
     std::vector<Image> images(uint64_t spp) const;
     Film takeFilm();
     uint64_t rays() const;
+    /// Only these film tiles from now on (SamplePassRenderer::renderOnlyTiles).
+    void renderOnlyTiles(std::vector<size_t> tiles);
 
     /// The film key of partition g (not a path type: a layer's name in this film).
     static PathType keyOf(size_t g);
@@ -60,10 +62,15 @@ std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>
                                   uint64_t spp);
 
 /// The per-pixel variance of each partition's image from two independent one-sample films
-/// (samples `first` and first + 1 of every pixel): V_g = sum over pixels of (L0 - L1)^2 / 2,
-/// L the luminance of partition g's one-sample estimate (unbiased for independent samples; the
-/// image's own samples are stratified over pixels only, as these). Also the rays of one
+/// (samples `first` and first + 1 of every pixel, `first` even: the first points of the two
+/// parities' sequences, pixel_sample_position.h, independent): V_g = sum over pixels of
+/// (L0 - L1)^2 / 2, L the luminance of partition g's one-sample estimate. Also the rays of one
 /// sample of every pixel. Partitions that are not per pixel get V_g = 0.
+///
+/// On a large image the pilot looks at part of it: the tiles perPixelPilotTiles keeps (about
+/// kPerPixelPilotPixels pixels, scattered over the image), its sums scaled by the image's pixels
+/// over theirs. Its time and its films' memory then do not grow with the image (at 1280x720
+/// two one-sample films of 13 partitions held ~290 MB each).
 struct PerPixelPilot {
     std::vector<double> variance;
     /// The same over pixel-channels (RGB): partition g's image after n samples per pixel has
@@ -75,5 +82,12 @@ struct PerPixelPilot {
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
                                PerPixelEstimator estimator, uint64_t first,
                                ProgressReporter& progress);
+
+inline constexpr double kPerPixelPilotPixels = 65536;
+/// The film tiles the pilot renders on a width x height image (row-major indices, ascending):
+/// empty (every tile) when the image has at most about kPerPixelPilotPixels pixels, else one
+/// tile in `stride`, chosen by a hash of the tile's index (scattered, not in stripes), at least
+/// one. `pixels` receives the pixels of the tiles kept.
+std::vector<size_t> perPixelPilotTiles(int width, int height, double& pixels);
 
 }  // namespace partita

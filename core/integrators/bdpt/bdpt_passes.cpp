@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "camera.h"
 #include "integrators/pt/pt_integrator.h"
 #include "path/connection.h"
+#include "pixel_sample_position.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "thread_pool.h"
@@ -25,15 +27,16 @@ BdptPasses::BdptPasses(const RenderContext& ctx, const BdptSettings& settings,
     cameraWalk_.maxVertices = ctx.settings.maxDepth + 2;
     lightWalk_.maxVertices = ctx.settings.maxDepth + 1;
     cameraWalk_.rouletteStartDepth = lightWalk_.rouletteStartDepth = settings.rouletteStartDepth;
+    renderOnlyTiles({});
 }
 
 void BdptPasses::renderPass(SampleRange range, ProgressReporter& progress) {
     const size_t tilesX = size_t(film_.tilesX());
-    for (size_t first = 0; first < tiles_.size(); first += kBatchTiles) {
-        const size_t end = std::min(tiles_.size(), first + kBatchTiles);
+    for (size_t first = 0; first < order_.size(); first += kBatchTiles) {
+        const size_t end = std::min(order_.size(), first + kBatchTiles);
         ctx_.pool.parallelFor(end - first, [&](size_t i) {
             ctx_.throwIfCancelled();
-            const size_t tile = first + i;
+            const size_t tile = order_[first + i];
             int x0 = int(tile % tilesX) * Film::kTileSize,
                 y0 = int(tile / tilesX) * Film::kTileSize;
             int x1 = std::min(x0 + Film::kTileSize, film_.width());
@@ -41,7 +44,16 @@ void BdptPasses::renderPass(SampleRange range, ProgressReporter& progress) {
             renderTile(x0, y0, x1, y1, range, tiles_[tile]);
             progress.advance(double(x1 - x0) * (y1 - y0) * double(range.count()));
         });
-        addSplats(range, first, end);
+        addSplats(range, std::span<const size_t>(order_).subspan(first, end - first));
+    }
+}
+
+void BdptPasses::renderOnlyTiles(std::vector<size_t> tiles) {
+    if (tiles.empty()) {
+        order_.resize(tiles_.size());
+        std::iota(order_.begin(), order_.end(), size_t(0));
+    } else {
+        order_ = std::move(tiles);
     }
 }
 
@@ -103,7 +115,8 @@ void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
                               Film::Pixel* oddPixel, Connector& connector, Scratch& scratch,
                               std::vector<Splat>& splats) {
     Rng rng = pixelSampleRng(ctx_.settings.seed, x, y, film_.width(), sample);
-    Vec2f u{rng.nextFloat(), rng.nextFloat()};
+    const uint64_t pixelIndex = uint64_t(y) * uint64_t(film_.width()) + uint64_t(x);
+    Vec2f u = pixelSamplePosition(ctx_.settings.seed, pixelIndex, sample);
     Ray primary = ctx_.camera.generateRay(filteredRasterPosition(x, y, u));
     traceCameraSubpath(ctx_.scene, ctx_.camera, primary, rng, cameraWalk_, scratch.camera,
                        scratch.rays);
@@ -135,9 +148,9 @@ bool BdptPasses::wanted(int s, int t) const {
            (settings_.onlyT < 0 || t == settings_.onlyT);
 }
 
-void BdptPasses::addSplats(SampleRange range, size_t first, size_t end) {
+void BdptPasses::addSplats(SampleRange range, std::span<const size_t> tiles) {
     for (uint64_t i = 0; i < range.count(); ++i) {
-        for (size_t t = first; t < end; ++t) {
+        for (size_t t : tiles) {
             const TileSplats& tile = tiles_[t];
             for (uint32_t k = tile.sampleStarts[i]; k < tile.sampleStarts[i + 1]; ++k) {
                 const Splat& sp = tile.splats[k];
@@ -147,7 +160,7 @@ void BdptPasses::addSplats(SampleRange range, size_t first, size_t end) {
         const bool odd = oddHalf_ && ((range.first + i) & 1);
         splatBuffer_.flushInto(film_, odd ? &*oddHalf_ : nullptr);
     }
-    for (size_t t = first; t < end; ++t) tiles_[t] = TileSplats{};
+    for (size_t t : tiles) tiles_[t] = TileSplats{};
 }
 
 }  // namespace partita

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "algorithm.h"
@@ -47,6 +48,7 @@ class BdptPasses : public SamplePassRenderer {
     void addStats(RenderStats& st, double seconds) const override;
     /// Splats are held for a batch of a pass: keep a pass to about 2^18 pixel samples.
     uint64_t maxPassSamples() const override;
+    void renderOnlyTiles(std::vector<size_t> tiles) override;
     uint64_t rays() const { return rays_.load(); }
 
   private:
@@ -75,11 +77,11 @@ class BdptPasses : public SamplePassRenderer {
     void renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel, Film::Pixel* oddPixel,
                       Connector& connector, Scratch& scratch, std::vector<Splat>& splats);
     bool wanted(int s, int t) const;
-    /// The splats of tiles [first, end), sample by sample and within a sample tile by tile:
+    /// The splats of `tiles` (one batch), sample by sample and within a sample tile by tile:
     /// the same order whatever the threads did and however the budget was split into passes.
     /// A group per sample index and batch (splat_buffer.h: accurate float sums). The tiles'
     /// lists are emptied (their memory given back).
-    void addSplats(SampleRange range, size_t first, size_t end);
+    void addSplats(SampleRange range, std::span<const size_t> tiles);
 
     const RenderContext& ctx_;
     BdptSettings settings_;
@@ -91,6 +93,7 @@ class BdptPasses : public SamplePassRenderer {
     std::optional<Film> oddHalf_;  // the odd sample indices' combined sums (keepOddHalf)
     SplatBuffer splatBuffer_;
     std::vector<TileSplats> tiles_;
+    std::vector<size_t> order_;  // the tiles a pass renders, ascending (renderOnlyTiles)
     std::atomic<uint64_t> rays_{0};
 };
 

@@ -14,6 +14,7 @@
 #include "light_emission.h"
 #include "mcmc/chain_runner.h"
 #include "path/connection.h"
+#include "pixel_sample_position.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "rng.h"
@@ -25,26 +26,6 @@ namespace {
 
 constexpr uint64_t kDirectStreams = 0x444952454354ull;  // "DIRECT": apart from pt's and bdpt's
 constexpr uint64_t kScrambleSample = ~uint64_t(0);      // a pixel's scrambles: no sample's index
-
-/// Point `n` of the first two dimensions of the Sobol sequence, a (0, 2)-sequence in base 2
-/// (van der Corput and Sobol's second dimension), each XOR-scrambled by a random 32-bit value:
-/// every point is uniform over the unit square, and the first 2^k points of a pixel fall one in
-/// each of 2^k equal elementary intervals (Kollig & Keller 2002, "Efficient multidimensional
-/// sampling"), whatever the pixel's samples per pixel turn out to be.
-Vec2f scrambledSobol(uint32_t n, uint32_t scrambleX, uint32_t scrambleY) {
-    uint32_t x = n;  // van der Corput: the bits of n reversed
-    x = (x << 16) | (x >> 16);
-    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
-    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
-    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
-    x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
-    x ^= scrambleX;
-    uint32_t y = scrambleY;
-    for (uint32_t v = 1u << 31; n != 0; n >>= 1, v ^= v >> 1)
-        if (n & 1u) y ^= v;
-    // The top 24 bits, as Rng::nextFloat: below 1.
-    return {float(x >> 8) * 0x1p-24f, float(y >> 8) * 0x1p-24f};
-}
 
 }  // namespace
 
@@ -138,7 +119,7 @@ void DirectLightRenderer::renderTile(int x0, int y0, int x1, int y1, SampleRange
                              pixelSampleStream(index, kScrambleSample) ^ streams_);
                 const uint32_t scrambleX = scramble.nextUInt(), scrambleY = scramble.nextUInt();
                 Rng rng(ctx_.settings.seed, pixelSampleStream(index, s) ^ streams_);
-                Vec2f u = scrambledSobol(uint32_t(s), scrambleX, scrambleY);
+                Vec2f u = scrambledSobol02(uint32_t(s), scrambleX, scrambleY);
                 Ray primary = camera.generateRay(filteredRasterPosition(x, y, u));
                 traceCameraSubpath(scene, camera, primary, rng, walk_, path, rays);
                 // x_f, the first non-specular scattering vertex: emitter hits up to x_{f+1} and

@@ -11,6 +11,7 @@
 #include "integrators/pt/film_sink.h"
 #include "integrators/pt/path_sampler.h"
 #include "integrators/sample_passes.h"
+#include "pixel_sample_position.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "sampling.h"
@@ -33,9 +34,10 @@ class PathTracerPasses : public SamplePassRenderer {
 
     void renderPass(SampleRange range, ProgressReporter& progress) override {
         int tilesX = film_.tilesX();
-        size_t tileCount = size_t(tilesX) * film_.tilesY();
-        ctx_.pool.parallelFor(tileCount, [&](size_t tile) {
+        size_t tileCount = only_.empty() ? size_t(tilesX) * film_.tilesY() : only_.size();
+        ctx_.pool.parallelFor(tileCount, [&](size_t i) {
             ctx_.throwIfCancelled();
+            const size_t tile = only_.empty() ? i : only_[i];
             int x0 = int(tile % tilesX) * Film::kTileSize,
                 y0 = int(tile / tilesX) * Film::kTileSize;
             int x1 = std::min(x0 + Film::kTileSize, film_.width());
@@ -64,6 +66,8 @@ class PathTracerPasses : public SamplePassRenderer {
     Image oddHalfSums() const override {
         return oddHalf_ ? oddHalf_->resolveCombined(1.0f) : Image(film_.width(), film_.height());
     }
+
+    void renderOnlyTiles(std::vector<size_t> tiles) override { only_ = std::move(tiles); }
 
     Film film() const override {
         Film copy(film_.width(), film_.height(), film_.layers());
@@ -101,7 +105,8 @@ class PathTracerPasses : public SamplePassRenderer {
             for (int i = 0; i < n; ++i) {
                 sinks[size_t(i)]->selectSample(s);
                 rngs[size_t(i)] = pixelSampleRng(ctx_.settings.seed, x + i, y, film_.width(), s);
-                Vec2f u{rngs[size_t(i)].nextFloat(), rngs[size_t(i)].nextFloat()};
+                const uint64_t pixelIndex = uint64_t(y) * uint64_t(film_.width()) + uint64_t(x + i);
+                Vec2f u = pixelSamplePosition(ctx_.settings.seed, pixelIndex, s);
                 rays[size_t(i)] = ctx_.camera.generateRay(filteredRasterPosition(x + i, y, u));
             }
             ctx_.scene.intersect8(rays.data(), n, hits.data(), found);
@@ -120,6 +125,7 @@ class PathTracerPasses : public SamplePassRenderer {
     ContributionKey key_;
     Film film_;
     std::optional<Film> oddHalf_;  // the odd sample indices' combined sums (keepOddHalf)
+    std::vector<size_t> only_;     // the tiles a pass renders (renderOnlyTiles); empty: all
     PathSamplerSettings samplerSettings_;
     std::atomic<uint64_t> rays_{0};
 };
