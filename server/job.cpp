@@ -136,9 +136,13 @@ bool Job::transition(pb::JobState next, const std::string& error, const Persist&
 
 void Job::publishProgress(const RenderProgress& progress) {
     std::lock_guard lock(mutex_);
-    *record_.mutable_progress() = toProto(progress);
     auto now = std::chrono::steady_clock::now();
     bool phaseChanged = progress.phase != lastPhase_;
+    // The last report of the phase before, held back by the interval: it goes out first, so
+    // that a watcher sees where every phase ended (a quick pre-pass before the pilots).
+    if (phaseChanged && progressPending_)
+        for (const auto& w : watchers_) w.watcher->onProgress(record_.progress());
+    *record_.mutable_progress() = toProto(progress);
     if (!phaseChanged &&
         std::chrono::duration<double>(now - lastProgressSent_).count() < kProgressIntervalSeconds) {
         progressPending_ = true;

@@ -63,14 +63,19 @@ void WatchSession::onClose(const grpc::Status& status) {
 void WatchSession::enqueue(Pending item) {
     std::lock_guard lock(mutex_);
     if (finished_ || cancelled_ || closeStatus_) return;
-    // Keep at most one pending progress report after the last pending state and one pending
-    // intermediate frame: the newest. A progress report before a state stays: it is the last of
-    // its phase.
+    // Keep at most one pending progress report of a phase after the last pending state and one
+    // pending intermediate frame: the newest. A progress report before a state, or of another
+    // phase, stays: it is the last of its phase (several phases may share a state: the
+    // pre-pass and the pilots).
     if (item.kind == Pending::Progress) {
         auto lastState = std::find_if(queue_.rbegin(), queue_.rend(),
                                       [](const Pending& p) { return p.kind == Pending::State; });
+        const std::string& phase = item.event.progress().phase();
         queue_.erase(std::remove_if(lastState.base(), queue_.end(),
-                                    [](const Pending& p) { return p.kind == Pending::Progress; }),
+                                    [&](const Pending& p) {
+                                        return p.kind == Pending::Progress &&
+                                               p.event.progress().phase() == phase;
+                                    }),
                      queue_.end());
     } else if (item.kind == Pending::Frame) {
         std::erase_if(queue_, [](const Pending& p) {

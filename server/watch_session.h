@@ -1,10 +1,11 @@
 // One WatchJob stream: a JobWatcher that queues the job's events and a gRPC write reactor that
 // sends them, one write at a time.
 //
-// The queue holds every state change in order, but at most one progress report between two
-// state changes and one intermediate preview frame (a newer one replaces the pending one), so a
-// slow client skips frames and never holds back the render or other watchers. The final frame
-// is never dropped, nor the last progress of a phase (the one queued before the next state).
+// The queue holds every state change in order, but at most one progress report per phase
+// between two state changes and one intermediate preview frame (a newer one replaces the pending
+// one), so a slow client skips frames and never holds back the render or other watchers. The
+// final frame is never dropped, nor the last progress of a phase (the one queued before the next
+// state or the next phase's).
 // The stream ends with OK after the terminal state has been sent.
 //
 // Memory: a stalled watcher holds at most one message in flight and one pending frame, and a

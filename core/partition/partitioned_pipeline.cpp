@@ -80,9 +80,10 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
 }
 
 /// Per partition: its type string, P(i), b_i, gamma and the running acceptance of its chains
-/// (accepted / proposed over all its mutations so far).
+/// (accepted / proposed over all its mutations so far; 0 without a runner: the per-pixel
+/// samples come before the chains).
 std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& partitions,
-                                                 const ChainRunner& runner) {
+                                                 const ChainRunner* runner) {
     std::vector<PartitionProgress> out;
     for (size_t g = 0; g < partitions.size(); ++g) {
         PartitionProgress pp;
@@ -90,7 +91,7 @@ std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& p
         pp.p = partitions[g].p;
         pp.b = partitions[g].b;
         pp.gamma = partitions[g].gamma;
-        pp.acceptance = acceptanceOf(runner, g);
+        pp.acceptance = runner ? acceptanceOf(*runner, g) : 0;
         pp.estimator = partitions[g].perPixel ? "per-pixel" : "chains";
         out.push_back(std::move(pp));
     }
@@ -426,12 +427,14 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     if (rs.budgetKind != BudgetKind::Seconds) {
         ProgressReporter progress(ctx.observer, "render", "samples",
                                   double(st.perPixelSpp) * pixels);
+        progress.setPartitions(partitionProgress(st.partitions, nullptr));
         out.renderer->renderPass({0, st.perPixelSpp}, progress);
         progress.flush();
         out.spp = st.perPixelSpp;
     } else {
         const double target = st.pixelShare * std::max(0.0, rs.budget - secondsSince(start));
         ProgressReporter progress(ctx.observer, "render", "samples", 0, target);
+        progress.setPartitions(partitionProgress(st.partitions, nullptr));
         double perSample = 0;
         while (out.spp == 0 || (secondsSince(begin) < target && secondsSince(start) < rs.budget &&
                                 out.spp < (uint64_t(1) << 20))) {
@@ -491,7 +494,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
             },
             [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
             [&](ProgressReporter& progress) {
-                progress.setPartitions(partitionProgress(partitions, runner));
+                progress.setPartitions(partitionProgress(partitions, &runner));
                 monitor.afterRound(runner, progress);
             });
 

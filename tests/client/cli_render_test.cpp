@@ -242,9 +242,12 @@ TEST(CliRender, MltRendersEndToEndAndPrintsItsAcceptance) {
 
 TEST(CliRender, PartitionedRendersEndToEndAndWatchShowsThePartitionTable) {
     TempDir dir;
-    const std::vector<std::string> part = {
-        "--algorithm", "partitioned", "--mpp", "16",          "--width", "16",        "--height",
-        "12",          "--k",         "3",     "--bootstrap", "4000",    "--prepass", "pt"};
+    // The estimators chosen (the pilots' phase between the pre-pass and the render, whose
+    // per-pixel samples carry the table too): every phase and the table still show.
+    const std::vector<std::string> part = {"--algorithm", "partitioned", "--mpp",        "16",
+                                           "--width",     "16",          "--height",     "12",
+                                           "--k",         "3",           "--bootstrap",  "4000",
+                                           "--prepass",   "pt",          "--estimators", "auto"};
     RunResult r =
         partita(concat({"render", "cornell-glass", "--out", (dir / "p.exr").string()}, part));
     ASSERT_EQ(r.exitCode, 0) << r.describe();

@@ -177,5 +177,34 @@ TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
     EXPECT_NEAR(sumP, 1.0, 1e-9);
 }
 
+TEST(ProgressReporter, PerPixelPartitionsReportTheirTableAndEveryPhase) {
+    // Every partition per pixel: no chains' phase, yet the render phase carries the partition
+    // table (their estimator "per-pixel"), after the pre-pass and the pilot.
+    RenderScene scene(
+        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf"));
+    RenderSettings s;
+    s.width = 16;
+    s.height = 12;
+    s.budgetKind = BudgetKind::MutationsPerPixel;
+    s.budget = 8;
+    s.parameters.set("k", 3).set("bootstrap", 4000).set("estimators", std::string("per-pixel"));
+    s.previewIntervalSeconds = 0;
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    Recorder r;
+    RenderResult result = runRender(scene, "partitioned", s, pool, cancel, r);
+    std::vector<std::string> phases;
+    for (const RenderProgress& p : r.reports)
+        if (phases.empty() || phases.back() != p.phase) phases.push_back(p.phase);
+    EXPECT_EQ(phases, (std::vector<std::string>{"prepass", "pilot", "render"}));
+    const RenderProgress& last = r.reports.back();
+    ASSERT_EQ(last.partitions.size(), size_t(result.stats.values.at("partitions")));
+    for (size_t g = 0; g < last.partitions.size(); ++g) {
+        EXPECT_EQ(last.partitions[g].estimator, "per-pixel");
+        EXPECT_EQ(last.partitions[g].type,
+                  result.stats.labels.at("partition_" + std::to_string(g) + "_type"));
+    }
+}
+
 }  // namespace
 }  // namespace partita
