@@ -241,8 +241,9 @@ TEST(Partitioned, PerPixelPartitionsConvergeOnCornellGlass) {
 TEST(Partitioned, EdgeCasesAreDefined) {
     RenderScene scene = loadScene("cornell");
     RenderSettings st = tinySettings(8, 1, BudgetKind::MutationsPerPixel);
-    // K = 0: the complement alone, all of path space.
-    st.parameters.set("k", 0);
+    // K = 0: the complement alone, all of path space (the paper's partitions: with the estimators
+    // chosen, the direct light would be a partition too).
+    st.parameters.set("k", 0).set("estimators", std::string("chains"));
     RenderResult none = test::renderWith(scene, "partitioned", st);
     ASSERT_EQ(none.image.layers.size(), 1u);
     EXPECT_EQ(none.image.layers[0].name, kComplementLabel);
