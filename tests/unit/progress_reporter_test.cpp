@@ -135,7 +135,9 @@ TEST(ProgressReporter, PartitionsGoOutWithTheNextReportAndStay) {
     EXPECT_EQ(r.reports.back().partitions.size(), 2u) << "they stay until replaced";
 }
 
-TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
+/// A 16x12 partitioned render of cornell-glass at 8 mpp (K = 3) with `estimators`, its
+/// reports into `r`.
+RenderResult partitionedWithReports(const std::string& estimators, Recorder& r) {
     RenderScene scene(
         loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf"));
     RenderSettings s;
@@ -143,12 +145,16 @@ TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
     s.height = 12;
     s.budgetKind = BudgetKind::MutationsPerPixel;
     s.budget = 8;
-    s.parameters.set("k", 3).set("bootstrap", 4000);
+    s.parameters.set("k", 3).set("bootstrap", 4000).set("estimators", estimators);
     s.previewIntervalSeconds = 0;
     ThreadPool pool(2);
     std::atomic<bool> cancel{false};
+    return runRender(scene, "partitioned", s, pool, cancel, r);
+}
+
+TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
     Recorder r;
-    RenderResult result = runRender(scene, "partitioned", s, pool, cancel, r);
+    RenderResult result = partitionedWithReports("chains", r);
 
     ASSERT_GE(r.reports.size(), 3u);
     EXPECT_EQ(r.reports.front().phase, "prepass");
@@ -180,19 +186,8 @@ TEST(ProgressReporter, PartitionedReportsPrepassThenPartitions) {
 TEST(ProgressReporter, PerPixelPartitionsReportTheirTableAndEveryPhase) {
     // Every partition per pixel: no chains' phase, yet the render phase carries the partition
     // table (their estimator "per-pixel"), after the pre-pass and the pilot.
-    RenderScene scene(
-        loadGltfFile(std::string(PARTITA_SCENES_DIR) + "/cornell-glass/cornell-glass.gltf"));
-    RenderSettings s;
-    s.width = 16;
-    s.height = 12;
-    s.budgetKind = BudgetKind::MutationsPerPixel;
-    s.budget = 8;
-    s.parameters.set("k", 3).set("bootstrap", 4000).set("estimators", std::string("per-pixel"));
-    s.previewIntervalSeconds = 0;
-    ThreadPool pool(2);
-    std::atomic<bool> cancel{false};
     Recorder r;
-    RenderResult result = runRender(scene, "partitioned", s, pool, cancel, r);
+    RenderResult result = partitionedWithReports("per-pixel", r);
     std::vector<std::string> phases;
     for (const RenderProgress& p : r.reports)
         if (phases.empty() || phases.back() != p.phase) phases.push_back(p.phase);
