@@ -5,6 +5,7 @@
 
 #include "camera.h"
 #include "clock.h"
+#include "half_split_error.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_error_monitor.h"
 #include "mcmc/chain_render.h"
@@ -414,10 +415,26 @@ struct PerPixelRun {
     std::unique_ptr<PerPixelPartitions> renderer;
     uint64_t spp = 0;
     double seconds = 0;
+    bool reachedTarget = false;  // stopped at the target error (no chains to follow)
 };
 
+/// With a target error and every partition per pixel, whether the samples so far reach it: the
+/// estimate of the whole image from the pilot's per-sample variances over the samples so far
+/// (partition_error.h, as the render's final estimate). With chains to follow, the chains'
+/// monitor decides (the per-pixel part renders its planned share).
+bool perPixelReachedTarget(const PartitionedStart& st, const PerPixelRun& run, double targetError) {
+    if (!(targetError > 0) || !st.plan.chains.empty() || run.spp < 2) return false;
+    const std::vector<Image> images = run.renderer->images(run.spp);
+    ErrorSums total;
+    for (size_t g = 0; g < st.partitions.size(); ++g) {
+        if (g >= st.pixelVarianceRgb.size() || images[g].empty()) return false;
+        total.add(imageErrorSums(images[g], st.pixelVarianceRgb[g] / double(run.spp)));
+    }
+    return total.count > 0 && total.relativeRmse() <= targetError;
+}
+
 PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
-                           Clock::time_point start) {
+                           Clock::time_point start, double targetError) {
     PerPixelRun out;
     if (!st.anyPerPixel()) return out;
     const RenderSettings& rs = ctx.settings;
@@ -428,16 +445,25 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
         ProgressReporter progress(ctx.observer, "render", "samples",
                                   double(st.perPixelSpp) * pixels);
         progress.setPartitions(partitionProgress(st.partitions, nullptr));
-        out.renderer->renderPass({0, st.perPixelSpp}, progress);
+        // One pass; with a target to watch, passes that double the samples so far (the image
+        // does not depend on the split).
+        const bool watch = targetError > 0 && st.plan.chains.empty();
+        while (out.spp < st.perPixelSpp && !out.reachedTarget) {
+            const uint64_t n =
+                watch ? std::min(st.perPixelSpp - out.spp, std::max<uint64_t>(out.spp, 2))
+                      : st.perPixelSpp;
+            out.renderer->renderPass({out.spp, out.spp + n}, progress);
+            out.spp += n;
+            out.reachedTarget = perPixelReachedTarget(st, out, targetError);
+        }
         progress.flush();
-        out.spp = st.perPixelSpp;
     } else {
         const double target = st.pixelShare * std::max(0.0, rs.budget - secondsSince(start));
         ProgressReporter progress(ctx.observer, "render", "samples", 0, target);
         progress.setPartitions(partitionProgress(st.partitions, nullptr));
         double perSample = 0;
         while (out.spp == 0 || (secondsSince(begin) < target && secondsSince(start) < rs.budget &&
-                                out.spp < (uint64_t(1) << 20))) {
+                                out.spp < (uint64_t(1) << 20) && !out.reachedTarget)) {
             ctx.throwIfCancelled();
             // Passes of about a quarter of a second, never far past the share.
             const double left = std::min(target - secondsSince(begin), 0.25);
@@ -446,6 +472,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
             out.renderer->renderPass({out.spp, out.spp + n}, progress);
             out.spp += n;
             perSample = secondsSince(begin) / double(out.spp);
+            out.reachedTarget = perPixelReachedTarget(st, out, targetError);
         }
         progress.flush();
     }
@@ -468,7 +495,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     const PartitionedStart st = startPartitioned(ctx, settings, algorithm, mutations);
     const std::vector<Partition>& partitions = st.partitions;
     // The per-pixel partitions first: the chains then get what is left of a time budget.
-    const PerPixelRun pixels = renderPerPixel(ctx, st, start);
+    const PerPixelRun pixels = renderPerPixel(ctx, st, start, settings.targetError);
     const std::vector<Image> pixelImages =
         pixels.renderer ? pixels.renderer->images(pixels.spp) : std::vector<Image>{};
     const double pixelRays = pixels.renderer ? double(pixels.renderer->rays()) : 0;
@@ -506,6 +533,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     addPerPixelStats(result.stats, pixels, pixelRays);
     monitor.estimateNow();
     monitor.addStats(result.stats);
+    if (pixels.reachedTarget) result.stats.values["reached_target_error"] = 1.0;
     // The statistics first: the image takes the chains' films, one partition at a time, so a
     // render's last moment holds the films or the images, not both (issue #24).
     result.image = resolvePartitions(

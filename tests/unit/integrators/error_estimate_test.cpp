@@ -279,6 +279,27 @@ TEST(TargetError, McmcStopsOnceTheEstimateReachesIt) {
     }
 }
 
+TEST(TargetError, PerPixelPartitionsStopOnceTheEstimateReachesIt) {
+    // Every partition per pixel: no chains whose monitor would stop the render; the per-pixel
+    // samples stop themselves (their budget read as 4096 samples a pixel).
+    RenderScene scene = cornell();
+    RenderSettings st = tinySettings(4096, 3);
+    st.budgetKind = BudgetKind::MutationsPerPixel;
+    st.parameters.set("bootstrap", 20000);
+    st.parameters.set("estimators", std::string("per-pixel"));
+    st.parameters.set("target_error", 0.3);
+    RenderResult r = renderWith(scene, "partitioned", st);
+    EXPECT_EQ(r.stats.values.at("reached_target_error"), 1.0);
+    EXPECT_EQ(r.stats.values.at("mutations"), 0.0);
+    EXPECT_LT(r.stats.values.at("per_pixel_spp"), 4096.0) << "stopped before the budget";
+    EXPECT_LE(r.stats.values.at("error_estimate"), 0.3);
+    // Without a target the whole budget renders (a smaller one, above what the target took).
+    st.parameters.set("target_error", 0.0);
+    st.budget = std::min(4096.0, 2 * r.stats.values.at("per_pixel_spp"));
+    RenderResult whole = renderWith(scene, "partitioned", st);
+    EXPECT_EQ(whole.stats.values.at("per_pixel_spp"), st.budget);
+}
+
 TEST(TargetError, ShardedMcmcJobsRefuseIt) {
     // A sharded job's films are merged after every shard has run its whole share.
     RenderScene scene = cornell();
