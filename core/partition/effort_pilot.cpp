@@ -119,8 +119,8 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
         std::string why;
         if (choosePrepassEstimator(ctx.scene, "auto", why) == StartupEstimator::PathTracer)
             estimators.push_back(PerPixelEstimator::PathTracer);
-        double pixels = 0;  // the pilot's: perhaps part of the image
-        perPixelPilotTiles(ctx.settings.width, ctx.settings.height, pixels);
+        // The pilot's pixels: perhaps part of the image.
+        const double pixels = perPixelPilotTiles(ctx.settings.width, ctx.settings.height).pixels;
         ProgressReporter progress(ctx.observer, "pilot", "samples",
                                   2 * pixels * double(estimators.size()));
         for (PerPixelEstimator estimator : estimators) {

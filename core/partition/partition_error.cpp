@@ -11,7 +11,7 @@ std::string partitionErrorName(size_t g) {
 namespace {
 
 /// Partition g's error sums; count 0 when it has no estimate.
-ErrorSums partError(size_t g, const Partition& p, const ChainRunner& runner,
+ErrorSums partError(size_t g, const Partition& p, const ChainRunner* runner,
                     const std::vector<Image>& pixelImages,
                     const std::vector<double>& pixelVarianceRgb, uint64_t pixelSpp) {
     if (p.perPixel) {
@@ -20,7 +20,8 @@ ErrorSums partError(size_t g, const Partition& p, const ChainRunner& runner,
             return {};
         return imageErrorSums(pixelImages[g], pixelVarianceRgb[g] / double(pixelSpp));
     }
-    ErrorSums sums = runner.halvesError(uint32_t(g));
+    if (!runner) return {};
+    ErrorSums sums = runner->halvesError(uint32_t(g));
     sums.addScaleVariance(p.bError * p.bError);
     return sums;
 }
@@ -28,7 +29,7 @@ ErrorSums partError(size_t g, const Partition& p, const ChainRunner& runner,
 }  // namespace
 
 ChainErrorMonitor::Estimate estimatePartitionError(const std::vector<Partition>& partitions,
-                                                   const ChainRunner& runner,
+                                                   const ChainRunner* runner,
                                                    const std::vector<Image>& pixelImages,
                                                    const std::vector<double>& pixelVarianceRgb,
                                                    uint64_t pixelSpp) {

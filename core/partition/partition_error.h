@@ -26,11 +26,12 @@ class ChainRunner;
 std::string partitionErrorName(size_t g);
 
 /// The estimate: `pixelImages`/`pixelVarianceRgb`/`pixelSpp` for the per-pixel partitions
-/// (unused when none is). A part without an estimate yet (a half of its chains without a
+/// (unused when none is); `runner` the chains' (null before any chain runs: a partition with
+/// chains then has no estimate). A part without an estimate yet (a half of its chains without a
 /// mutation, a group of one chain, a per-pixel partition without a pilot) has none, and then
 /// neither has the combined image.
 ChainErrorMonitor::Estimate estimatePartitionError(const std::vector<Partition>& partitions,
-                                                   const ChainRunner& runner,
+                                                   const ChainRunner* runner,
                                                    const std::vector<Image>& pixelImages,
                                                    const std::vector<double>& pixelVarianceRgb,
                                                    uint64_t pixelSpp);

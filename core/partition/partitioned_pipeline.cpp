@@ -5,7 +5,6 @@
 
 #include "camera.h"
 #include "clock.h"
-#include "half_split_error.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_error_monitor.h"
 #include "mcmc/chain_render.h"
@@ -419,18 +418,15 @@ struct PerPixelRun {
 };
 
 /// With a target error and every partition per pixel, whether the samples so far reach it: the
-/// estimate of the whole image from the pilot's per-sample variances over the samples so far
-/// (partition_error.h, as the render's final estimate). With chains to follow, the chains'
-/// monitor decides (the per-pixel part renders its planned share).
+/// render's own estimate (partition_error.h; no chains, so no runner). With chains to follow,
+/// the chains' monitor decides (the per-pixel part renders its planned share).
 bool perPixelReachedTarget(const PartitionedStart& st, const PerPixelRun& run, double targetError) {
     if (!(targetError > 0) || !st.plan.chains.empty() || run.spp < 2) return false;
-    const std::vector<Image> images = run.renderer->images(run.spp);
-    ErrorSums total;
-    for (size_t g = 0; g < st.partitions.size(); ++g) {
-        if (g >= st.pixelVarianceRgb.size() || images[g].empty()) return false;
-        total.add(imageErrorSums(images[g], st.pixelVarianceRgb[g] / double(run.spp)));
-    }
-    return total.count > 0 && total.relativeRmse() <= targetError;
+    const double estimate =
+        estimatePartitionError(st.partitions, nullptr, run.renderer->images(run.spp),
+                               st.pixelVarianceRgb, run.spp)
+            .combined;
+    return estimate >= 0 && estimate <= targetError;
 }
 
 PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
@@ -506,7 +502,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     ChainRunner runner(ctx, st.plan, factory, restrictionsOf(partitions), settings.roundMutations,
                        ChainRunner::FilmLayout::PerGroupWithHalves);
     ChainErrorMonitor monitor(rs, settings.targetError, [&] {
-        return estimatePartitionError(partitions, runner, pixelImages, st.pixelVarianceRgb,
+        return estimatePartitionError(partitions, &runner, pixelImages, st.pixelVarianceRgb,
                                       pixels.spp);
     });
     auto imageOf = [&](uint32_t g) {

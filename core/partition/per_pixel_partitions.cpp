@@ -91,30 +91,30 @@ void PerPixelPartitions::renderOnlyTiles(std::vector<size_t> tiles) {
     passes_->renderOnlyTiles(std::move(tiles));
 }
 
-std::vector<size_t> perPixelPilotTiles(int width, int height, double& pixels) {
+PilotTiles perPixelPilotTiles(int width, int height) {
     const int tilesX = (width + Film::kTileSize - 1) / Film::kTileSize;
     const int tilesY = (height + Film::kTileSize - 1) / Film::kTileSize;
-    pixels = double(width) * double(height);
-    const size_t stride = size_t(std::ceil(pixels / kPerPixelPilotPixels));
-    if (stride <= 1) return {};
+    PilotTiles out;
+    out.pixels = double(width) * double(height);
+    const size_t stride = size_t(std::ceil(out.pixels / kPerPixelPilotPixels));
+    if (stride <= 1) return out;
     auto tilePixels = [&](size_t t) {
         const int x0 = int(t % size_t(tilesX)) * Film::kTileSize;
         const int y0 = int(t / size_t(tilesX)) * Film::kTileSize;
         return double(std::min(Film::kTileSize, width - x0)) *
                double(std::min(Film::kTileSize, height - y0));
     };
-    std::vector<size_t> kept;
-    pixels = 0;
+    out.pixels = 0;
     for (size_t t = 0; t < size_t(tilesX) * size_t(tilesY); ++t) {
         if (mix64(t + 0x9117) % stride != 0) continue;
-        kept.push_back(t);
-        pixels += tilePixels(t);
+        out.tiles.push_back(t);
+        out.pixels += tilePixels(t);
     }
-    if (kept.empty()) {
-        kept.push_back(0);
-        pixels = tilePixels(0);
+    if (out.tiles.empty()) {
+        out.tiles.push_back(0);
+        out.pixels = tilePixels(0);
     }
-    return kept;
+    return out;
 }
 
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
@@ -123,14 +123,12 @@ PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Parti
     auto begin = Clock::now();
     std::vector<Partition> all = partitions;
     for (Partition& p : all) p.perPixel = true;
-    double pilotPixels = 0;
-    const std::vector<size_t> tiles =
-        perPixelPilotTiles(ctx.settings.width, ctx.settings.height, pilotPixels);
+    const PilotTiles pilot = perPixelPilotTiles(ctx.settings.width, ctx.settings.height);
     // Sums over the pilot's pixels stand for the image's: scaled by the ratio of their counts.
-    const double scale = double(ctx.settings.width) * ctx.settings.height / pilotPixels;
+    const double scale = double(ctx.settings.width) * ctx.settings.height / pilot.pixels;
     PerPixelPartitions a(ctx, all, estimator), b(ctx, all, estimator);
-    a.renderOnlyTiles(tiles);
-    b.renderOnlyTiles(tiles);
+    a.renderOnlyTiles(pilot.tiles);
+    b.renderOnlyTiles(pilot.tiles);
     a.renderPass({first, first + 1}, progress);
     b.renderPass({first + 1, first + 2}, progress);
     const std::vector<Image> ia = a.images(1), ib = b.images(1);

@@ -87,7 +87,11 @@ inline constexpr double kPerPixelPilotPixels = 65536;
 /// The film tiles the pilot renders on a width x height image (row-major indices, ascending):
 /// empty (every tile) when the image has at most about kPerPixelPilotPixels pixels, else one
 /// tile in `stride`, chosen by a hash of the tile's index (scattered, not in stripes), at least
-/// one. `pixels` receives the pixels of the tiles kept.
-std::vector<size_t> perPixelPilotTiles(int width, int height, double& pixels);
+/// one; and the pixels they hold.
+struct PilotTiles {
+    std::vector<size_t> tiles;
+    double pixels = 0;
+};
+PilotTiles perPixelPilotTiles(int width, int height);
 
 }  // namespace partita

@@ -49,19 +49,19 @@ Image partitionLayer(const LayeredImage& image, const std::string& name, bool di
     }
     Image sum(image.combined.width, image.combined.height);
     complete = false;
+    // What the render's partition holds (Partition::holds): the direct-light types, or a
+    // class's types less those when the direct light is apart.
+    Partition partition;
+    partition.direct = name == kDirectLabel;
+    partition.directApart = directApart && !partition.direct;
     TypePattern pattern;
-    const bool direct = name == kDirectLabel;
-    if (!direct &&
+    if (!partition.direct &&
         (name == Film::kOtherLayer || !TypePattern::parse(name, pattern) || pattern.isExact()))
         return sum;  // a type the image lacks: black
+    partition.patterns = {pattern};
     for (const ImageLayer& layer : image.layers) {
         PathType t;
-        if (!PathType::parse(layer.name, t)) continue;
-        // The direct partition holds the direct-light types; with it apart, a class holds the
-        // others it matches (partition/partition.h, Partition::holds).
-        const bool held = direct ? isDirectLightType(t)
-                                 : pattern.matches(t) && !(directApart && isDirectLightType(t));
-        if (!held) continue;
+        if (!PathType::parse(layer.name, t) || !partition.holds(t)) continue;
         for (size_t i = 0; i < sum.rgb.size() && i < layer.image.rgb.size(); ++i)
             sum.rgb[i] += layer.image.rgb[i];
     }
