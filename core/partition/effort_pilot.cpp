@@ -32,16 +32,35 @@ ChainPlan intoHalves(ChainPlan plan) {
     return plan;
 }
 
-/// v_g of the header, or -1 when a half ran no mutation.
-double halvesVariance(const ChainRunner& runner, uint32_t g) {
-    const uint64_t ma = runner.mutationsDone(int(2 * g)), mb = runner.mutationsDone(int(2 * g + 1));
+/// The pilot's chains of partition g alone, in two halves (groups 0 and 1): a plan with g's
+/// mutations only, its other groups dropped (a runner makes a film for every group).
+ChainPlan pilotPlanOf(const RenderContext& ctx, const BootstrapSampler& sampler,
+                      const PrepassResult& prepass, const std::vector<Partition>& partitions,
+                      size_t g, uint64_t mutations, const PartitionPipelineSettings& s) {
+    std::vector<uint64_t> counts(partitions.size(), 0);
+    counts[g] = mutations;
+    // Each partition's own salt: its chains' streams independent of the others'.
+    ChainPlan plan = intoHalves(
+        planPartitionChains(ctx, sampler, prepass, partitions, counts, s, kPilotSalt + g));
+    plan.groups = {plan.groups[2 * g], plan.groups[2 * g + 1]};
+    for (PlannedChain& c : plan.chains) c.group -= uint32_t(2 * g);
+    return plan;
+}
+
+/// v_g of the header from a runner of one partition's two halves, or -1 when a half ran no
+/// mutation.
+double halvesVariance(const ChainRunner& runner) {
+    const uint64_t ma = runner.mutationsDone(0), mb = runner.mutationsDone(1);
     if (ma == 0 || mb == 0) return -1;
-    const double sum = luminanceSquaredDifference(runner.resolveGroupCombined(2 * g),
-                                                  runner.resolveGroupCombined(2 * g + 1));
+    const double sum =
+        luminanceSquaredDifference(runner.resolveGroupCombined(0), runner.resolveGroupCombined(1));
     return sum / (1.0 / double(ma) + 1.0 / double(mb));
 }
 
-/// The chains' pilot: v_g and c_g of every partition into `out`.
+/// The chains' pilot: v_g and c_g of every partition into `out`. One partition at a time, each
+/// with the same share of the pilot (each one's error is measured alike) and its share of the
+/// chains: two films (its halves) alive at once, not two per partition (at 1280x720, 24 films
+/// of 22 MB).
 void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
                 const PrepassResult& prepass, const std::vector<Partition>& partitions,
                 const ChainRunner::MutationFactory& mutations,
@@ -49,47 +68,53 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
                 const PartitionPipelineSettings& s, double secondsLeft, EffortMeasurement& out) {
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
-    const size_t n = partitions.size();
-    // The same share of the pilot for every partition: each one's error is measured alike.
+    // The direct light is per pixel whatever the pilots say: no chains to measure.
+    std::vector<size_t> measured;
+    for (size_t g = 0; g < partitions.size(); ++g)
+        if (!partitions[g].direct) measured.push_back(g);
+    if (measured.empty()) return;
     const double pixels = double(rs.width) * rs.height;
     const double pilotMpp = std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
-    const uint64_t perPartition = timed
-                                      ? (uint64_t(1) << 40)
-                                      : std::max<uint64_t>(4 * s.minMutationsPerChain,
-                                                           uint64_t(pilotMpp * pixels / double(n)));
-    // The direct light is per pixel whatever the pilots say: no chains to measure.
-    std::vector<uint64_t> counts(n, perPartition);
-    for (size_t g = 0; g < n; ++g)
-        if (partitions[g].direct) counts[g] = 0;
-    const ChainPlan plan =
-        intoHalves(planPartitionChains(ctx, sampler, prepass, partitions, counts, s, kPilotSalt));
-    auto halfOf = [](uint32_t group) { return group / 2; };
-    ChainRunner runner(
-        ctx, plan, [&](uint32_t group) { return mutations(halfOf(group)); },
-        [&](uint32_t group) { return restrictions(halfOf(group)); }, s.roundMutations);
+    const uint64_t perPartition =
+        timed ? (uint64_t(1) << 40)
+              : std::max<uint64_t>(4 * s.minMutationsPerChain,
+                                   uint64_t(pilotMpp * pixels / double(partitions.size())));
+    PartitionPipelineSettings one = s;
+    one.chains = std::max(2, s.chains / int(measured.size()));
     const double seconds = timed ? std::max(1e-3, s.pilotShare * secondsLeft) : 0;
-    auto begin = Clock::now();
     ProgressReporter progress(ctx.observer, "pilot", "mutations",
-                              timed ? 0 : double(plan.mutations()), seconds);
-    runner.run(progress, seconds);
+                              timed ? 0 : double(perPartition * measured.size()), seconds);
+    auto begin = Clock::now();
+    std::vector<uint64_t> done(partitions.size(), 0), rays(partitions.size(), 0);
+    std::vector<double> variance(partitions.size(), -1);
+    for (size_t g : measured) {
+        const ChainPlan plan = pilotPlanOf(ctx, sampler, prepass, partitions, g, perPartition, one);
+        ChainRunner runner(
+            ctx, plan, [&](uint32_t) { return mutations(uint32_t(g)); },
+            [&](uint32_t) { return restrictions(uint32_t(g)); }, s.roundMutations);
+        runner.run(progress, timed ? seconds / double(measured.size()) : 0);
+        variance[g] = halvesVariance(runner);
+        done[g] = runner.mutationsDone();
+        rays[g] = runner.rays();
+        ctx.throwIfCancelled();
+    }
     progress.flush();
-    const double chainSeconds = secondsSince(begin);
-    const double secondsPerRay = runner.rays() > 0 ? chainSeconds / double(runner.rays()) : 0;
-    out.rays += runner.rays();
-    out.chainMutations = runner.mutationsDone();
-    out.mutationCost = out.chainMutations > 0 ? double(runner.rays()) / double(out.chainMutations) *
-                                                    (timed ? secondsPerRay : 1.0)
-                                              : 0;
+    uint64_t allRays = 0, allDone = 0;
+    for (size_t g : measured) {
+        allRays += rays[g];
+        allDone += done[g];
+    }
+    const double secondsPerRay = allRays > 0 ? secondsSince(begin) / double(allRays) : 0;
+    const double unit = timed ? secondsPerRay : 1.0;  // a cost in seconds, or in rays
+    out.rays += allRays;
+    out.chainMutations = allDone;
+    out.mutationCost = allDone > 0 ? double(allRays) / double(allDone) * unit : 0;
     double worst = 0;  // the largest measured v_g: for a partition whose halves did not both run
-    for (size_t g = 0; g < n; ++g) {
+    for (size_t g = 0; g < partitions.size(); ++g) {
         PartitionEffort& e = out.partitions[g];
-        e.chainVariance = halvesVariance(runner, uint32_t(g));
+        e.chainVariance = variance[g];
         worst = std::max(worst, e.chainVariance);
-        const uint64_t done =
-            runner.mutationsDone(int(2 * g)) + runner.mutationsDone(int(2 * g + 1));
-        const double rays = double(runner.rays(int(2 * g)) + runner.rays(int(2 * g + 1)));
-        e.mutationCost =
-            done > 0 ? rays / double(done) * (timed ? secondsPerRay : 1.0) : out.mutationCost;
+        e.mutationCost = done[g] > 0 ? double(rays[g]) / double(done[g]) * unit : out.mutationCost;
     }
     for (PartitionEffort& e : out.partitions)
         if (e.chainVariance < 0) e.chainVariance = worst > 0 ? worst : 1.0;

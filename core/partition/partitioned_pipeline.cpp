@@ -406,10 +406,7 @@ VeachMutationSettings partitionMutationSettings(VeachMutationSettings base,
 
 namespace {
 
-/// The per-pixel partitions' samples (none when every partition has chains): a mutation
-/// budget's planned samples per pixel, or a time budget's share of the time left after the
-/// start-up (at least one sample: the chains never see these partitions' paths). Phase
-/// "render", in samples.
+/// The per-pixel partitions' samples (renderPerPixel).
 struct PerPixelRun {
     std::unique_ptr<PerPixelPartitions> renderer;
     uint64_t spp = 0;
@@ -417,61 +414,107 @@ struct PerPixelRun {
     bool reachedTarget = false;  // stopped at the target error (no chains to follow)
 };
 
-/// With a target error and every partition per pixel, whether the samples so far reach it: the
-/// render's own estimate (partition_error.h; no chains, so no runner). With chains to follow,
-/// the chains' monitor decides (the per-pixel part renders its planned share).
-bool perPixelReachedTarget(const PartitionedStart& st, const PerPixelRun& run, double targetError) {
-    if (!(targetError > 0) || !st.plan.chains.empty() || run.spp < 2) return false;
-    const double estimate =
-        estimatePartitionError(st.partitions, nullptr, run.renderer->images(run.spp),
-                               st.pixelVarianceRgb, run.spp)
-            .combined;
-    return estimate >= 0 && estimate <= targetError;
+/// The per-pixel partitions' error so far (partition_error.h; no chains yet, so the combined
+/// image's only when every partition is per pixel), from their images after run.spp samples.
+ChainErrorMonitor::Estimate perPixelError(const PartitionedStart& st, const PerPixelRun& run,
+                                          const std::vector<Image>& images) {
+    return estimatePartitionError(st.partitions, nullptr, images, st.pixelVarianceRgb, run.spp);
 }
 
+/// The estimate's values into the phase's progress (the dashboard's error curves), as the
+/// chains' monitor publishes its own.
+void publishError(const ChainErrorMonitor::Estimate& e, ProgressReporter& progress) {
+    std::map<std::string, double> values = e.parts;
+    if (e.combined >= 0) values["error_estimate"] = e.combined;
+    if (!values.empty()) progress.mergeValues(values);
+}
+
+/// A preview of the per-pixel phase: its partitions' images so far, the chains' partitions
+/// black (they have not started).
+void previewPerPixel(const RenderContext& ctx, const PartitionedStart& st, const PerPixelRun& run,
+                     std::vector<Image> images, Clock::time_point start) {
+    RenderStats stats;
+    stats.values["per_pixel_spp"] = double(run.spp);
+    stats.values["seconds"] = secondsSince(start);
+    ctx.observer.onPreview(
+        resolvePartitions([&](uint32_t g) { return std::move(images[g]); }, st.partitions,
+                          ctx.settings.width, ctx.settings.height),
+        stats);
+}
+
+/// The samples of the per-pixel phase's next pass: one first (a preview right after it), then
+/// as many as end when the next preview is due (about a second without previews, a quarter of
+/// one with a time budget, which must not be overshot), at most the samples so far while a
+/// target error is watched (the estimate is looked at after each pass), never past `most`.
+uint64_t nextPerPixelPass(const RenderContext& ctx, const PerPixelRun& run, uint64_t most,
+                          double secondsPerSample, double sincePreview, double timeLeft,
+                          bool watch) {
+    if (run.spp == 0) return 1;
+    const RenderSettings& rs = ctx.settings;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
+    double window = timed ? 0.25 : 1.0;
+    if (rs.previewIntervalSeconds > 0 && ctx.observer.wantsPreviews())
+        window = std::max(0.0, rs.previewIntervalSeconds - sincePreview);
+    if (timed) window = std::min(window, timeLeft);
+    uint64_t n =
+        secondsPerSample > 0 ? uint64_t(std::clamp(window / secondsPerSample, 1.0, 4096.0)) : 1;
+    if (watch) n = std::min(n, std::max<uint64_t>(run.spp, 2));
+    return std::min(n, most - run.spp);
+}
+
+/// The per-pixel phase (none when every partition has chains): a mutation budget's planned
+/// samples per pixel, or a time budget's share of the time left after the start-up (at least
+/// one sample: the chains never see these partitions' paths), in passes with previews between
+/// them (the images do not depend on the split). Phase "render", in samples.
 PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                            Clock::time_point start, double targetError) {
     PerPixelRun out;
     if (!st.anyPerPixel()) return out;
     const RenderSettings& rs = ctx.settings;
+    const bool timed = rs.budgetKind == BudgetKind::Seconds;
     const double pixels = double(rs.width) * rs.height;
-    auto begin = Clock::now();
+    const uint64_t most = timed ? (uint64_t(1) << 20) : st.perPixelSpp;
+    const double share = timed ? st.pixelShare * std::max(0.0, rs.budget - secondsSince(start)) : 0;
+    // With a target to watch and no chains to follow, the render's own estimate stops it.
+    const bool watch = targetError > 0 && st.plan.chains.empty();
+    const bool previews = rs.previewIntervalSeconds > 0 && ctx.observer.wantsPreviews();
+    auto begin = Clock::now(), lastPreview = begin;
     out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
-    if (rs.budgetKind != BudgetKind::Seconds) {
-        ProgressReporter progress(ctx.observer, "render", "samples",
-                                  double(st.perPixelSpp) * pixels);
-        progress.setPartitions(partitionProgress(st.partitions, nullptr));
-        // One pass; with a target to watch, passes that double the samples so far (the image
-        // does not depend on the split).
-        const bool watch = targetError > 0 && st.plan.chains.empty();
-        while (out.spp < st.perPixelSpp && !out.reachedTarget) {
-            const uint64_t n =
-                watch ? std::min(st.perPixelSpp - out.spp, std::max<uint64_t>(out.spp, 2))
-                      : st.perPixelSpp;
-            out.renderer->renderPass({out.spp, out.spp + n}, progress);
-            out.spp += n;
-            out.reachedTarget = perPixelReachedTarget(st, out, targetError);
+    ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
+                              timed ? share : 0);
+    progress.setPartitions(partitionProgress(st.partitions, nullptr));
+    auto lastEstimate = begin;
+    while (out.spp < most && !out.reachedTarget) {
+        ctx.throwIfCancelled();
+        const double elapsed = secondsSince(begin);
+        if (timed && out.spp > 0 && (elapsed >= share || secondsSince(start) >= rs.budget)) break;
+        const uint64_t n =
+            nextPerPixelPass(ctx, out, most, out.spp > 0 ? elapsed / double(out.spp) : 0,
+                             secondsSince(lastPreview), share - elapsed, watch);
+        out.renderer->renderPass({out.spp, out.spp + n}, progress);
+        out.spp += n;
+        // The estimate after every pass while a target is watched, else every half second (as
+        // the chains' monitor); a preview after the first pass, then once per interval.
+        const bool estimate = watch || out.spp == n || secondsSince(lastEstimate) >= 0.5;
+        const bool preview =
+            previews && out.spp < most &&
+            (out.spp == n || secondsSince(lastPreview) >= rs.previewIntervalSeconds);
+        if (!estimate && !preview) continue;
+        std::vector<Image> images = out.renderer->images(out.spp, &ctx.pool);
+        if (estimate) {
+            lastEstimate = Clock::now();
+            const ChainErrorMonitor::Estimate e = perPixelError(st, out, images);
+            publishError(e, progress);
+            // With a target to watch, the render's own estimate stops it (trusted from 2 spp).
+            out.reachedTarget =
+                watch && out.spp >= 2 && e.combined >= 0 && e.combined <= targetError;
         }
-        progress.flush();
-    } else {
-        const double target = st.pixelShare * std::max(0.0, rs.budget - secondsSince(start));
-        ProgressReporter progress(ctx.observer, "render", "samples", 0, target);
-        progress.setPartitions(partitionProgress(st.partitions, nullptr));
-        double perSample = 0;
-        while (out.spp == 0 || (secondsSince(begin) < target && secondsSince(start) < rs.budget &&
-                                out.spp < (uint64_t(1) << 20) && !out.reachedTarget)) {
-            ctx.throwIfCancelled();
-            // Passes of about a quarter of a second, never far past the share.
-            const double left = std::min(target - secondsSince(begin), 0.25);
-            const uint64_t n =
-                perSample > 0 ? uint64_t(std::clamp(left / perSample, 1.0, 4096.0)) : 1;
-            out.renderer->renderPass({out.spp, out.spp + n}, progress);
-            out.spp += n;
-            perSample = secondsSince(begin) / double(out.spp);
-            out.reachedTarget = perPixelReachedTarget(st, out, targetError);
+        if (preview && !out.reachedTarget) {
+            lastPreview = Clock::now();
+            previewPerPixel(ctx, st, out, std::move(images), start);
         }
-        progress.flush();
     }
+    progress.flush();
     out.seconds = secondsSince(begin);
     return out;
 }
@@ -492,8 +535,9 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     const std::vector<Partition>& partitions = st.partitions;
     // The per-pixel partitions first: the chains then get what is left of a time budget.
     const PerPixelRun pixels = renderPerPixel(ctx, st, start, settings.targetError);
-    const std::vector<Image> pixelImages =
-        pixels.renderer ? pixels.renderer->images(pixels.spp) : std::vector<Image>{};
+    // Their film is given back here: the chains' phase needs only its images.
+    std::vector<Image> pixelImages =
+        pixels.renderer ? pixels.renderer->takeImages(pixels.spp, &ctx.pool) : std::vector<Image>{};
     const double pixelRays = pixels.renderer ? double(pixels.renderer->rays()) : 0;
     const double startupSeconds = st.startupSeconds + pixels.seconds;
     // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
@@ -534,7 +578,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     // render's last moment holds the films or the images, not both (issue #24).
     result.image = resolvePartitions(
         [&](uint32_t g) {
-            return partitions[g].perPixel ? pixelImages[g] : runner.takeGroupCombined(g);
+            return partitions[g].perPixel ? std::move(pixelImages[g]) : runner.takeGroupCombined(g);
         },
         partitions, rs.width, rs.height);
     return result;

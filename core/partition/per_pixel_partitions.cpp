@@ -34,10 +34,35 @@ const char* perPixelEstimatorName(PerPixelEstimator e) {
     return e == PerPixelEstimator::PathTracer ? "pt" : "bdpt";
 }
 
+namespace {
+
+RenderSettings keepingEveryKey(RenderSettings s, const std::vector<Partition>& partitions) {
+    s.maxTypeLayers = int(partitions.size());
+    return s;
+}
+
+/// The per-pixel partitions' images from a resolved per-pixel film (its layers moved out).
+std::vector<Image> imagesOf(LayeredImage resolved, const std::vector<Partition>& partitions,
+                            int width, int height) {
+    std::vector<Image> out(partitions.size());
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        if (!partitions[g].perPixel) continue;
+        const std::string key = PerPixelPartitions::keyOf(g).toString();
+        for (auto& layer : resolved.layers)
+            if (layer.name == key) out[g] = std::move(layer.image);
+        if (out[g].empty()) out[g] = Image(width, height);
+    }
+    return out;
+}
+
+}  // namespace
+
 PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
                                        const std::vector<Partition>& partitions,
                                        PerPixelEstimator estimator)
-    : partitions_(partitions) {
+    : partitions_(partitions),
+      settings_(keepingEveryKey(ctx.settings, partitions)),
+      ctx_{ctx.scene, ctx.camera, settings_, ctx.pool, ctx.cancel, ctx.observer} {
     // The partition of a contribution's type, if it is estimated here: its key; else dropped.
     auto key = [this](PathType& type) {
         for (size_t g = 0; g < partitions_.size(); ++g) {
@@ -49,9 +74,9 @@ PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
         return false;
     };
     if (estimator == PerPixelEstimator::PathTracer)
-        passes_ = makeRestrictedPathTracerPasses(ctx, keysOf(partitions_), key);
+        passes_ = makeRestrictedPathTracerPasses(ctx_, keysOf(partitions_), key);
     else
-        passes_ = std::make_unique<BdptPasses>(ctx, BdptSettings{}, keysOf(partitions_), key);
+        passes_ = std::make_unique<BdptPasses>(ctx_, BdptSettings{}, keysOf(partitions_), key);
 }
 
 PerPixelPartitions::~PerPixelPartitions() = default;
@@ -64,19 +89,19 @@ void PerPixelPartitions::renderPass(SampleRange range, ProgressReporter& progres
 
 std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>& partitions,
                                   uint64_t spp) {
-    std::vector<Image> out(partitions.size());
-    LayeredImage resolved =
-        film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, int(partitions.size()), nullptr);
-    for (size_t g = 0; g < partitions.size(); ++g) {
-        if (!partitions[g].perPixel) continue;
-        const Image* layer = resolved.layer(PerPixelPartitions::keyOf(g).toString());
-        out[g] = layer ? *layer : Image(film.width(), film.height());
-    }
-    return out;
+    return imagesOf(
+        film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, int(partitions.size()), nullptr),
+        partitions, film.width(), film.height());
 }
 
-std::vector<Image> PerPixelPartitions::images(uint64_t spp) const {
-    return perPixelImages(passes_->film(), partitions_, spp);
+std::vector<Image> PerPixelPartitions::images(uint64_t spp, ThreadPool* pool) const {
+    return imagesOf(passes_->resolve(std::max<uint64_t>(spp, 1), pool), partitions_,
+                    settings_.width, settings_.height);
+}
+
+std::vector<Image> PerPixelPartitions::takeImages(uint64_t spp, ThreadPool* pool) {
+    return imagesOf(passes_->takeResolved(std::max<uint64_t>(spp, 1), pool), partitions_,
+                    settings_.width, settings_.height);
 }
 
 Film PerPixelPartitions::takeFilm() { return passes_->takeFilm(); }

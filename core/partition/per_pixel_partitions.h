@@ -26,6 +26,7 @@
 namespace partita {
 
 class SamplePassRenderer;
+class ThreadPool;
 
 enum class PerPixelEstimator : uint8_t { Bdpt = 0, PathTracer = 1 };
 const char* perPixelEstimatorName(PerPixelEstimator e);
@@ -36,13 +37,19 @@ class PerPixelPartitions {
     PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions,
                        PerPixelEstimator estimator);
     ~PerPixelPartitions();
+    PerPixelPartitions(PerPixelPartitions&&) = delete;  // ctx_ refers to settings_
 
     /// Samples [range.first, range.end) of every pixel, on ctx's pool; advances `progress` by
     /// pixels x samples; cancellable.
     void renderPass(SampleRange range, ProgressReporter& progress);
     /// Partition g's image after `spp` samples per pixel: empty when g has chains, black when no
-    /// sample reached it.
-    std::vector<Image> images(uint64_t spp) const;
+    /// sample reached it. Resolved from the film in place (its memory and the images'); on
+    /// `pool` when given.
+    std::vector<Image> images(uint64_t spp, ThreadPool* pool = nullptr) const;
+    /// images(), bit for bit, consuming the film (each sum buffer given back as its image is
+    /// made): the end of the per-pixel phase, whose film the chains' phase no longer needs.
+    /// Only rays() afterwards.
+    std::vector<Image> takeImages(uint64_t spp, ThreadPool* pool = nullptr);
     Film takeFilm();
     uint64_t rays() const;
     /// Only these film tiles from now on (SamplePassRenderer::renderOnlyTiles).
@@ -53,6 +60,9 @@ class PerPixelPartitions {
 
   private:
     std::vector<Partition> partitions_;
+    /// The job's settings but for the layers kept: every partition's key, whatever --layers.
+    RenderSettings settings_;
+    RenderContext ctx_;
     std::unique_ptr<SamplePassRenderer> passes_;
 };
 

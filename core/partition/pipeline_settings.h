@@ -32,10 +32,9 @@ struct PartitionPipelineSettings {
     uint64_t prepassMemoryBytes = uint64_t(256) << 20;  // half B's path records
     /// Each partition's estimator (effort_plan.h): "auto" (the lower expected error per second
     /// from the pilots), "chains" (the paper's) or "per-pixel" (restricted pt/BDPT for all).
-    /// Still the paper's by default: auto beats it at equal time on cornell-glass, door-ajar,
-    /// pool and bathroom (docs/partition-estimators.md, "At equal time"), and becomes the
-    /// default once the tests that take chains for granted say so and its memory is bounded.
-    std::string estimators = "chains";
+    /// Default auto: at equal time it beats the paper's chains on cornell-glass, door-ajar,
+    /// pool and bathroom (docs/partition-estimators.md, "At equal time").
+    std::string estimators = "auto";
     /// The budget across partitions: "neyman" (by measured error per cost, effort_plan.h) or
     /// "p" (the paper's Eq. 10: mutations in proportion to P(i); every partition has chains).
     std::string allocation = "p";

@@ -25,6 +25,9 @@ TEST(ServiceGuided, JobRunsPrepassGuidesThenChainsWithItsParameters) {
     spec.set_y(33);
     spec.set_radius(4);
     spec.set_epsilon(0.05f);
+    // Every partition with chains, the guided move's (estimators=auto sends this small image's
+    // partitions per pixel, after a pilot phase).
+    (*spec.mutable_parameters())["estimators"].set_text_value("chains");
     Submitted job = submit(*stub, spec);
     ASSERT_TRUE(job.status.ok()) << job.status.error_message();
     WatchLog log = watch(*stub, job.id, /*previews=*/false);

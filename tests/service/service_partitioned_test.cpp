@@ -60,8 +60,9 @@ TEST(ServicePartitioned, JobHasPrepassThenPartitionsInProgressLayersAndStats) {
     EXPECT_NE(std::find(states.begin(), states.end(), pb::JOB_STATE_PREPASS), states.end());
     EXPECT_NE(std::find(states.begin(), states.end(), pb::JOB_STATE_RENDERING), states.end());
 
-    // "prepass" in samples while PREPASS (no partitions yet), "render" in mutations while
-    // RENDERING with the partitions once a round is done.
+    // "prepass" in samples while PREPASS (no partitions yet), then the estimators' pilots
+    // (estimators=auto, the default), "render" while RENDERING with the partitions: the
+    // per-pixel partitions' samples, then the chains' mutations.
     pb::JobState state = pb::JOB_STATE_UNSPECIFIED;
     std::vector<pb::Progress> prepass, render;
     for (const auto& e : log.events) {
@@ -74,6 +75,10 @@ TEST(ServicePartitioned, JobHasPrepassThenPartitionsInProgressLayersAndStats) {
             EXPECT_EQ(p.partitions_size(), 0);
             EXPECT_TRUE(render.empty()) << "pre-pass progress after the render's";
             prepass.push_back(p);
+        } else if (p.phase() == "pilot") {
+            EXPECT_EQ(state, pb::JOB_STATE_PREPASS);
+            EXPECT_FALSE(prepass.empty()) << "the pilots before the pre-pass";
+            EXPECT_TRUE(render.empty()) << "pilot progress after the render's";
         } else {
             EXPECT_EQ(p.phase(), "render");
             EXPECT_EQ(state, pb::JOB_STATE_RENDERING);
@@ -87,11 +92,17 @@ TEST(ServicePartitioned, JobHasPrepassThenPartitionsInProgressLayersAndStats) {
     EXPECT_EQ(last.done(), last.total());
     ASSERT_GE(last.partitions_size(), 2) << "some types and the complement";
     double sumP = 0;
-    std::vector<std::string> types;
+    std::vector<std::string> types, estimators;
     for (const auto& part : last.partitions()) {
-        EXPECT_TRUE(part.type() == "complement" ||
+        EXPECT_TRUE(part.type() == "complement" || part.type() == "direct" ||
                     (part.type().front() == 'L' && part.type().back() == 'E'))
             << part.type();
+        EXPECT_TRUE(part.estimator() == "chains" || part.estimator() == "per-pixel")
+            << part.estimator();
+        if (part.type() == "direct") {
+            EXPECT_EQ(part.estimator(), "per-pixel");
+        }
+        estimators.push_back(part.estimator());
         EXPECT_GT(part.b(), 0) << part.type();
         EXPECT_GT(part.p(), 0) << part.type();
         EXPECT_TRUE(part.acceptance() >= 0 && part.acceptance() <= 1) << part.type();
@@ -99,7 +110,7 @@ TEST(ServicePartitioned, JobHasPrepassThenPartitionsInProgressLayersAndStats) {
         types.push_back(part.type());
     }
     EXPECT_NEAR(sumP, 1.0, 1e-9);
-    EXPECT_LE(last.partitions_size(), 4) << "K = 3 and the complement";
+    EXPECT_LE(last.partitions_size(), 5) << "K = 3, the direct light and the complement";
 
     // Previews carry the combined image and every partition's layer.
     auto frames = log.frames();
@@ -145,7 +156,12 @@ TEST(ServicePartitioned, JobHasPrepassThenPartitionsInProgressLayersAndStats) {
         EXPECT_EQ(stats[key + "b"].get<double>(), last.partitions(int(g)).b());
         EXPECT_EQ(stats[key + "acceptance"].get<double>(), last.partitions(int(g)).acceptance())
             << "the last progress has the final acceptance";
-        EXPECT_GT(stats[key + "mutations"].get<double>(), 0);
+        EXPECT_EQ(j["labels"][key + "estimator"], estimators[g]);
+        if (estimators[g] == "chains") {
+            EXPECT_GT(stats[key + "mutations"].get<double>(), 0);
+        } else {
+            EXPECT_GT(stats["per_pixel_spp"].get<double>(), 0);
+        }
         EXPECT_TRUE(stats.contains(key + "gamma"));
     }
     EXPECT_TRUE(log.last()->stats().count("partition_0_b")) << "GetJob's stats too";

@@ -89,10 +89,12 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     // each its chains' and its odd chains' for the error estimate),
     // the pre-pass's half-B records (the start-up rule's 100000 samples for a time budget:
     // 50000 of ~13 records of 40 B: 24.8 MiB) and the 256 chains' states as for mlt (4 MiB).
+    // Every partition with chains (the paper's estimators; auto's per-pixel part below).
     pb::JobSpec spec = sceneSpec("cornell", 16, 12, 4);
     spec.set_algorithm("partitioned");
     spec.mutable_budget()->set_kind(pb::BUDGET_KIND_SECONDS);
     spec.set_k(10);
+    (*spec.mutable_parameters())["estimators"].set_text_value("chains");
     Submitted refused = submit(*stub, spec);
     EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     const std::string& why = refused.status.error_message();
@@ -110,6 +112,17 @@ TEST(ServiceResources, PartitionedEstimateCountsItsFilmsPrepassAndChains) {
     Submitted small = submit(*stub, spec);
     ASSERT_TRUE(small.status.ok()) << small.status.error_message();
     EXPECT_EQ(waitForEnd(*stub, small.id, 60s).state(), pb::JOB_STATE_DONE);
+
+    // With estimators=auto (the default), also the pilots and the per-pixel partitions (the
+    // direct light's among them): its film, and bdpt's splats, the estimator it may be.
+    (*spec.mutable_parameters())["estimators"].set_text_value("auto");
+    Submitted chosen = submit(*stub, spec);
+    EXPECT_EQ(chosen.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(chosen.status.error_message().find("12 partitions"), std::string::npos)
+        << chosen.status.error_message();
+    EXPECT_NE(chosen.status.error_message().find("pilots and per-pixel partitions"),
+              std::string::npos)
+        << chosen.status.error_message();
 
     // So does mlt's bootstrap: 4000 samples instead of 100000 bring it under 32 MiB too.
     pb::JobSpec mlt = sceneSpec("cornell", 16, 12, 4);

@@ -38,6 +38,15 @@ class EveryAlgorithm : public ::testing::TestWithParam<std::string> {
         s.previewIntervalSeconds = 0;
         return s;
     }
+    /// smallSettings, where an algorithm's layers are partitions (those with "estimators":
+    /// partitioned, guided) keeping the direct light (LE, LDE) with its types instead of a
+    /// partition of its own (pipeline_settings.h "direct"): every type a layer of its own.
+    RenderSettings perTypeSettings(int spp, uint64_t seed, int maxDepth = 64) const {
+        RenderSettings s = smallSettings(spp, seed, maxDepth);
+        for (const ParameterSpec& p : AlgorithmRegistry::instance().find(GetParam())->parameters)
+            if (p.name == "estimators") s.parameters.set("direct", std::string("chains"));
+        return s;
+    }
 };
 
 TEST_P(EveryAlgorithm, WhiteFurnaceMatchesClosedForm) {
@@ -46,7 +55,7 @@ TEST_P(EveryAlgorithm, WhiteFurnaceMatchesClosedForm) {
     std::vector<double> means;
     std::vector<std::vector<double>> perType(4);
     for (uint64_t seed = 1; seed <= 8; ++seed) {
-        RenderResult r = renderWith(scene, GetParam(), smallSettings(4, seed));
+        RenderResult r = renderWith(scene, GetParam(), perTypeSettings(4, seed));
         means.push_back(luminance(r.image.combined.mean()));
         for (int k = 0; k < 4; ++k) {
             std::string name = "L" + std::string(size_t(k), 'D') + "E";
@@ -175,7 +184,7 @@ TEST_P(EveryAlgorithm, CubeUnderAUniformEnvironmentMatchesClosedForm) {
     s.cameras.push_back(test::lookAtCamera({1.2f, 0.9f, 1.6f}, {0, 0, 0}, 1.0f));
     RenderScene scene(std::move(s));
     const int seeds = 6;
-    RenderSettings st = smallSettings(8, 1, 8);
+    RenderSettings st = perTypeSettings(8, 1, 8);
     std::vector<std::vector<double>> perPixel(size_t(st.width * st.height));
     double otherTypes = 0, cube = 0;
     for (int seed = 0; seed < seeds; ++seed) {

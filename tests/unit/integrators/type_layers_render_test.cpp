@@ -1,8 +1,8 @@
 // Bounded type layers in real renders (issue #24). bathroom produces thousands of path types,
 // hundreds per tile; with L layers every algorithm's film holds at most L + 2 buffers per tile
-// (the kept types, "other" and the combined sums), and the partitions' films none but the
-// combined one. The films are read from a one-shard render (shard/), whose film is the
-// one-process film bit for bit (shards_test.cpp).
+// (the kept types, "other" and the combined sums), the partitions' chains' films none but the
+// combined one, and their per-pixel film one a partition. The films are read from a one-shard
+// render (shard/), whose film is the one-process film bit for bit (shards_test.cpp).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -58,8 +58,19 @@ TEST(BoundedTypeLayers, BathroomFilmsHoldAtMostTheLayersPlusTwoBuffersPerTile) {
             EXPECT_GE(most, 1u);
         }
     }
-    // The partitions keep their combined images only.
-    EXPECT_EQ(buffersPerTile("partitioned", settingsFor("partitioned", 32)), 1u);
+    // The partitions' chains keep their combined images only; the per-pixel partitions
+    // (estimators=auto, the default) one film with a buffer per partition besides the combined
+    // one: at most K + 3 (K, the direct light and the complement), whatever --layers says.
+    RenderSettings chains = settingsFor("partitioned", 32);
+    chains.parameters.set("estimators", std::string("chains"));
+    EXPECT_EQ(buffersPerTile("partitioned", chains), 1u);
+    for (int layers : {0, 32}) {
+        RenderSettings chosen = settingsFor("partitioned", layers);
+        chosen.parameters.set("k", 4);
+        const size_t most = buffersPerTile("partitioned", chosen);
+        EXPECT_LE(most, 4u + 3u) << layers << " layers";
+        EXPECT_GT(most, 1u) << layers << " layers: some partitions per pixel";
+    }
 }
 
 TEST(BoundedTypeLayers, BathroomHasFarMoreTypesPerTileThanLayers) {

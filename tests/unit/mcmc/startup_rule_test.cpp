@@ -63,6 +63,8 @@ TEST(StartupRule, MltAndPartitionedRunWhatTheRuleGives) {
     EXPECT_EQ(mlt.stats.values["burn_in"], 0) << "mlt's chains start from resampled paths";
     EXPECT_GT(mlt.stats.values["bootstrap_rays"], 0);
 
+    // Every partition with chains (estimators=auto sends cornell's per pixel: no burn-in).
+    s.parameters.set("estimators", std::string("chains"));
     RenderResult partitioned = test::renderWith(scene, "partitioned", s);
     EXPECT_EQ(partitioned.stats.values["prepass_samples"], expected);
     // 256 chains of ~384 mutations: a burn-in of a tenth of each chain's, not 1024 steps.

@@ -95,20 +95,25 @@ TEST_P(ShardedRender, MergeIsBitIdenticalToOneProcessForAnyShardCountAndOrder) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Algorithms, ShardedRender,
-                         testing::Values(Case{"pt", BudgetKind::SamplesPerPixel, 9},
-                                         Case{"bdpt", BudgetKind::SamplesPerPixel, 7},
-                                         Case{"mlt", BudgetKind::MutationsPerPixel, 6},
-                                         Case{"partitioned", BudgetKind::MutationsPerPixel, 6},
-                                         // Every partition per pixel: shards split the samples.
-                                         Case{"partitioned", BudgetKind::MutationsPerPixel, 9,
-                                              "per-pixel"},
-                                         Case{"guided", BudgetKind::MutationsPerPixel, 6}),
-                         [](const auto& info) {
-                             std::string name = info.param.algorithm;
-                             if (info.param.estimators) name += "_per_pixel";
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Algorithms, ShardedRender,
+    testing::Values(Case{"pt", BudgetKind::SamplesPerPixel, 9},
+                    Case{"bdpt", BudgetKind::SamplesPerPixel, 7},
+                    Case{"mlt", BudgetKind::MutationsPerPixel, 6},
+                    // Every partition with chains: shards split them.
+                    Case{"partitioned", BudgetKind::MutationsPerPixel, 6, "chains"},
+                    // Every partition per pixel: shards split the samples.
+                    Case{"partitioned", BudgetKind::MutationsPerPixel, 9, "per-pixel"},
+                    // The default (auto): every partition per pixel here, 7 or more samples.
+                    Case{"partitioned", BudgetKind::MutationsPerPixel, 12},
+                    Case{"guided", BudgetKind::MutationsPerPixel, 6, "chains"},
+                    Case{"guided", BudgetKind::MutationsPerPixel, 12}),
+    [](const auto& info) {
+        std::string name = info.param.algorithm;
+        if (info.param.estimators) name += "_" + std::string(info.param.estimators);
+        std::replace(name.begin(), name.end(), '-', '_');
+        return name;
+    });
 
 TEST(ShardedRender, BdptSplatBatchesOfALargeImageAreTheSameForAnyThreadsAndShards) {
     // bdpt adds its light-tracing splats batch by batch (256 tiles); an image of more tiles than
