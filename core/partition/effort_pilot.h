@@ -61,5 +61,9 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
 
 /// The sample index of the per-pixel pilot's first sample: far from any image's own.
 inline constexpr uint64_t kPerPixelPilotSample = uint64_t(1) << 40;
+/// The path tracer's pilot samples per parity (runPerPixelPilot's k): enough of its stratified
+/// samples to show their gain on the light seen directly and through glass. BDPT's takes 1 (a
+/// sample costs it 4-9x more, and its light-traced part gains nothing from the pixel's strata).
+inline constexpr uint64_t kPathTracerPilotSamples = 4;
 
 }  // namespace partita

@@ -140,7 +140,11 @@ void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPla
         const std::string name = perPixelEstimatorName(pilot.estimator);
         st.values["pixel_cost_" + name] = pilot.cost;
         double variance = 0;
-        for (double v : pilot.variance) variance += v;
+        for (size_t g = 0; g < pilot.variance.size(); ++g) {
+            variance += pilot.variance[g];
+            st.values["partition_" + std::to_string(g) + "_pixel_variance_" + name] =
+                pilot.variance[g];
+        }
         st.values["pixel_variance_" + name] = variance;
     }
     st.values["per_pixel_share"] = plan.pixelShare;
@@ -484,6 +488,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                               timed ? share : 0);
     progress.setPartitions(partitionProgress(st.partitions, nullptr));
     auto lastEstimate = begin;
+    double estimateCost = 0;  // seconds the last estimate took (its images included)
     while (out.spp < most && !out.reachedTarget) {
         ctx.throwIfCancelled();
         const double elapsed = secondsSince(begin);
@@ -493,17 +498,22 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                              secondsSince(lastPreview), share - elapsed, watch);
         out.renderer->renderPass({out.spp, out.spp + n}, progress);
         out.spp += n;
-        // The estimate after every pass while a target is watched, else every half second (as
-        // the chains' monitor); a preview after the first pass, then once per interval.
-        const bool estimate = watch || out.spp == n || secondsSince(lastEstimate) >= 0.5;
+        // The estimate after every pass while a target is watched, else as the chains' monitor
+        // does: every half second, at most 5% of the time (a 1280x720 image's partitions take
+        // a tenth of a second to resolve); a preview after the first pass, then once per
+        // interval.
+        const bool estimate =
+            watch || out.spp == n || secondsSince(lastEstimate) >= std::max(0.5, 20 * estimateCost);
         const bool preview =
             previews && out.spp < most &&
             (out.spp == n || secondsSince(lastPreview) >= rs.previewIntervalSeconds);
         if (!estimate && !preview) continue;
+        const auto resolving = Clock::now();
         std::vector<Image> images = out.renderer->images(out.spp, &ctx.pool);
         if (estimate) {
-            lastEstimate = Clock::now();
             const ChainErrorMonitor::Estimate e = perPixelError(st, out, images);
+            lastEstimate = Clock::now();
+            estimateCost = secondsSince(resolving);
             publishError(e, progress);
             // With a target to watch, the render's own estimate stops it (trusted from 2 spp).
             out.reachedTarget =

@@ -14,17 +14,23 @@
 namespace partita {
 
 PathType PerPixelPartitions::keyOf(size_t g) {
+    // The most vertices, with g's bits as the specular ones: a distinct key for every g (a
+    // count of g vertices would stop at 64), and never a path's type in this film.
     PathType key;
-    for (size_t i = 0; i < g; ++i) key = key.withVertex(false);
+    for (int v = 0; v < PathType::kMaxScatteringVertices; ++v)
+        key = key.withVertex(v < 64 && ((uint64_t(g) >> v) & 1u));
     return key;
 }
 
 namespace {
 
-TypeLayers keysOf(const std::vector<Partition>& partitions) {
+TypeLayers keysOf(const std::vector<Partition>& partitions, bool byParity) {
     std::vector<PathType> keys;
-    for (size_t g = 0; g < partitions.size(); ++g)
-        if (partitions[g].perPixel) keys.push_back(PerPixelPartitions::keyOf(g));
+    for (size_t g = 0; g < partitions.size(); ++g) {
+        if (!partitions[g].perPixel) continue;
+        keys.push_back(PerPixelPartitions::keyOf(g));
+        if (byParity) keys.push_back(PerPixelPartitions::keyOf(partitions.size() + g));
+    }
     return TypeLayers::of(std::move(keys));
 }
 
@@ -37,17 +43,18 @@ const char* perPixelEstimatorName(PerPixelEstimator e) {
 namespace {
 
 RenderSettings keepingEveryKey(RenderSettings s, const std::vector<Partition>& partitions) {
-    s.maxTypeLayers = int(partitions.size());
+    s.maxTypeLayers = 2 * int(partitions.size());  // byParity's too
     return s;
 }
 
-/// The per-pixel partitions' images from a resolved per-pixel film (its layers moved out).
-std::vector<Image> imagesOf(LayeredImage resolved, const std::vector<Partition>& partitions,
-                            int width, int height) {
+/// The per-pixel partitions' images from a resolved per-pixel film (its layers moved out); the
+/// keys from keyOf(first) on (byParity's odd samples: first = the partitions).
+std::vector<Image> imagesOf(LayeredImage& resolved, const std::vector<Partition>& partitions,
+                            int width, int height, size_t first = 0) {
     std::vector<Image> out(partitions.size());
     for (size_t g = 0; g < partitions.size(); ++g) {
         if (!partitions[g].perPixel) continue;
-        const std::string key = PerPixelPartitions::keyOf(g).toString();
+        const std::string key = PerPixelPartitions::keyOf(first + g).toString();
         for (auto& layer : resolved.layers)
             if (layer.name == key) out[g] = std::move(layer.image);
         if (out[g].empty()) out[g] = Image(width, height);
@@ -59,24 +66,27 @@ std::vector<Image> imagesOf(LayeredImage resolved, const std::vector<Partition>&
 
 PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
                                        const std::vector<Partition>& partitions,
-                                       PerPixelEstimator estimator)
+                                       PerPixelEstimator estimator, bool byParity)
     : partitions_(partitions),
+      byParity_(byParity),
       settings_(keepingEveryKey(ctx.settings, partitions)),
       ctx_{ctx.scene, ctx.camera, settings_, ctx.pool, ctx.cancel, ctx.observer} {
     // The partition of a contribution's type, if it is estimated here: its key; else dropped.
-    auto key = [this](PathType& type) {
+    for (size_t i = 0; i < 2 * partitions_.size(); ++i) keys_.push_back(keyOf(i));
+    auto key = [this](PathType& type, uint64_t sample) {
         for (size_t g = 0; g < partitions_.size(); ++g) {
             if (!partitions_[g].holds(type)) continue;
             if (!partitions_[g].perPixel) return false;
-            type = keyOf(g);
+            type = keys_[byParity_ && (sample & 1) ? partitions_.size() + g : g];
             return true;
         }
         return false;
     };
+    const TypeLayers keys = keysOf(partitions_, byParity_);
     if (estimator == PerPixelEstimator::PathTracer)
-        passes_ = makeRestrictedPathTracerPasses(ctx_, keysOf(partitions_), key);
+        passes_ = makeRestrictedPathTracerPasses(ctx_, keys, key);
     else
-        passes_ = std::make_unique<BdptPasses>(ctx_, BdptSettings{}, keysOf(partitions_), key);
+        passes_ = std::make_unique<BdptPasses>(ctx_, BdptSettings{}, keys, key);
 }
 
 PerPixelPartitions::~PerPixelPartitions() = default;
@@ -89,19 +99,28 @@ void PerPixelPartitions::renderPass(SampleRange range, ProgressReporter& progres
 
 std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>& partitions,
                                   uint64_t spp) {
-    return imagesOf(
-        film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, int(partitions.size()), nullptr),
-        partitions, film.width(), film.height());
+    LayeredImage resolved =
+        film.resolve(spp > 0 ? 1.0f / float(spp) : 0.0f, int(partitions.size()), nullptr);
+    return imagesOf(resolved, partitions, film.width(), film.height());
 }
 
 std::vector<Image> PerPixelPartitions::images(uint64_t spp, ThreadPool* pool) const {
-    return imagesOf(passes_->resolve(std::max<uint64_t>(spp, 1), pool), partitions_,
-                    settings_.width, settings_.height);
+    LayeredImage resolved = passes_->resolve(std::max<uint64_t>(spp, 1), pool);
+    return imagesOf(resolved, partitions_, settings_.width, settings_.height);
 }
 
 std::vector<Image> PerPixelPartitions::takeImages(uint64_t spp, ThreadPool* pool) {
-    return imagesOf(passes_->takeResolved(std::max<uint64_t>(spp, 1), pool), partitions_,
-                    settings_.width, settings_.height);
+    LayeredImage resolved = passes_->takeResolved(std::max<uint64_t>(spp, 1), pool);
+    return imagesOf(resolved, partitions_, settings_.width, settings_.height);
+}
+
+std::pair<std::vector<Image>, std::vector<Image>> PerPixelPartitions::parityImages(
+    uint64_t perParity) const {
+    LayeredImage resolved = passes_->resolve(std::max<uint64_t>(perParity, 1), nullptr);
+    std::vector<Image> even = imagesOf(resolved, partitions_, settings_.width, settings_.height);
+    std::vector<Image> odd =
+        imagesOf(resolved, partitions_, settings_.width, settings_.height, partitions_.size());
+    return {std::move(even), std::move(odd)};
 }
 
 Film PerPixelPartitions::takeFilm() { return passes_->takeFilm(); }
@@ -144,29 +163,30 @@ PilotTiles perPixelPilotTiles(int width, int height) {
 
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
                                PerPixelEstimator estimator, uint64_t first,
-                               ProgressReporter& progress) {
+                               ProgressReporter& progress, uint64_t perParity) {
     auto begin = Clock::now();
     std::vector<Partition> all = partitions;
     for (Partition& p : all) p.perPixel = true;
     const PilotTiles pilot = perPixelPilotTiles(ctx.settings.width, ctx.settings.height);
     // Sums over the pilot's pixels stand for the image's: scaled by the ratio of their counts.
     const double scale = double(ctx.settings.width) * ctx.settings.height / pilot.pixels;
-    PerPixelPartitions a(ctx, all, estimator), b(ctx, all, estimator);
-    a.renderOnlyTiles(pilot.tiles);
-    b.renderOnlyTiles(pilot.tiles);
-    a.renderPass({first, first + 1}, progress);
-    b.renderPass({first + 1, first + 2}, progress);
-    const std::vector<Image> ia = a.images(1), ib = b.images(1);
+    const uint64_t k = std::max<uint64_t>(perParity, 1);
+    PerPixelPartitions pilotRender(ctx, all, estimator, /*byParity=*/true);
+    pilotRender.renderOnlyTiles(pilot.tiles);
+    pilotRender.renderPass({first, first + 2 * k}, progress);
+    const auto [even, odd] = pilotRender.parityImages(k);
     PerPixelPilot out;
     out.variance.assign(partitions.size(), 0);
     out.varianceRgb.assign(partitions.size(), 0);
     for (size_t g = 0; g < partitions.size(); ++g) {
-        out.variance[g] = scale * luminanceSquaredDifference(ia[g], ib[g]) / 2;
-        // halvesError's is the variance of the two samples' mean: one sample's is twice it.
-        out.varianceRgb[g] = scale * 2 * halvesError(ia[g], ib[g], 1, 1).variance;
+        // One k-sample estimate's variance is half the squared difference of two; one sample's
+        // k times it (where the error falls as 1 / n).
+        out.variance[g] = scale * double(k) * luminanceSquaredDifference(even[g], odd[g]) / 2;
+        // halvesError's is the variance of the two estimates' mean: one's is twice it.
+        out.varianceRgb[g] = scale * double(k) * 2 * halvesError(even[g], odd[g], 1, 1).variance;
     }
-    out.raysPerSample = scale * double(a.rays() + b.rays()) / 2;
-    out.secondsPerSample = scale * secondsSince(begin) / 2;
+    out.raysPerSample = scale * double(pilotRender.rays()) / double(2 * k);
+    out.secondsPerSample = scale * secondsSince(begin) / double(2 * k);
     return out;
 }
 

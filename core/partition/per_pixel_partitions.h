@@ -34,8 +34,10 @@ const char* perPixelEstimatorName(PerPixelEstimator e);
 class PerPixelPartitions {
   public:
     /// Estimates the partitions with `perPixel` set (the others' contributions are dropped).
+    /// `byParity` (the pilot's): the even and the odd sample indices of each partition under
+    /// keys of their own (parityImages), two independent estimates of its image.
     PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions,
-                       PerPixelEstimator estimator);
+                       PerPixelEstimator estimator, bool byParity = false);
     ~PerPixelPartitions();
     PerPixelPartitions(PerPixelPartitions&&) = delete;  // ctx_ refers to settings_
 
@@ -50,16 +52,22 @@ class PerPixelPartitions {
     /// made): the end of the per-pixel phase, whose film the chains' phase no longer needs.
     /// Only rays() afterwards.
     std::vector<Image> takeImages(uint64_t spp, ThreadPool* pool = nullptr);
+    /// byParity: partition g's images of the even and of the odd sample indices, after
+    /// `perParity` samples of each per pixel.
+    std::pair<std::vector<Image>, std::vector<Image>> parityImages(uint64_t perParity) const;
     Film takeFilm();
     uint64_t rays() const;
     /// Only these film tiles from now on (SamplePassRenderer::renderOnlyTiles).
     void renderOnlyTiles(std::vector<size_t> tiles);
 
-    /// The film key of partition g (not a path type: a layer's name in this film).
+    /// The film key of partition g (not a path type: a layer's name in this film); byParity,
+    /// g's odd samples are under keyOf(partitions + g).
     static PathType keyOf(size_t g);
 
   private:
     std::vector<Partition> partitions_;
+    bool byParity_ = false;
+    std::vector<PathType> keys_;  // keyOf(i), i < 2 x partitions (per contribution: looked up)
     /// The job's settings but for the layers kept: every partition's key, whatever --layers.
     RenderSettings settings_;
     RenderContext ctx_;
@@ -71,11 +79,15 @@ class PerPixelPartitions {
 std::vector<Image> perPixelImages(const Film& film, const std::vector<Partition>& partitions,
                                   uint64_t spp);
 
-/// The per-pixel variance of each partition's image from two independent one-sample films
-/// (samples `first` and first + 1 of every pixel, `first` even: the first points of the two
-/// parities' sequences, pixel_sample_position.h, independent): V_g = sum over pixels of
-/// (L0 - L1)^2 / 2, L the luminance of partition g's one-sample estimate. Also the rays of one
-/// sample of every pixel. Partitions that are not per pixel get V_g = 0.
+/// The per-pixel variance of each partition's image from two independent estimates of k samples
+/// each: samples [first, first + 2k) of every pixel, `first` a multiple of 2k, the even and the
+/// odd indices apart (the two parities' sequences, pixel_sample_position.h: independent, and
+/// each block of k points stratified over the pixel). V_g = k x sum over pixels of
+/// (L0 - L1)^2 / 2, L the luminance of partition g's k-sample estimate: the error of n samples
+/// is V_g / n where the error falls as 1 / n. Stratified samples do better than that for the
+/// light seen directly and through glass (pixel edges), which k = 1 cannot see: the path
+/// tracer's pilot takes k = 4 (docs/partition-estimators.md, "The per-pixel estimator"). Also
+/// the rays of one sample of every pixel. Partitions that are not per pixel get V_g = 0.
 ///
 /// On a large image the pilot looks at part of it: the tiles perPixelPilotTiles keeps (about
 /// kPerPixelPilotPixels pixels, scattered over the image), its sums scaled by the image's pixels
@@ -89,9 +101,10 @@ struct PerPixelPilot {
     double raysPerSample = 0;
     double secondsPerSample = 0;
 };
+/// `perParity`: k.
 PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Partition>& partitions,
                                PerPixelEstimator estimator, uint64_t first,
-                               ProgressReporter& progress);
+                               ProgressReporter& progress, uint64_t perParity = 1);
 
 inline constexpr double kPerPixelPilotPixels = 65536;
 /// The film tiles the pilot renders on a width x height image (row-major indices, ascending):

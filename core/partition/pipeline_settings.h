@@ -35,6 +35,13 @@ struct PartitionPipelineSettings {
     /// Default auto: at equal time it beats the paper's chains on cornell-glass, door-ajar,
     /// pool and bathroom (docs/partition-estimators.md, "At equal time").
     std::string estimators = "auto";
+    /// The per-pixel partitions' estimator: "auto" (the path tracer in a scene without delta
+    /// lights, else BDPT), "pilot" (both piloted, the plan of lower predicted error x cost),
+    /// "pt" or "bdpt". Not "pilot" by default: its one-sample pilots cannot see what the path
+    /// tracer's stratified samples gain, and chose BDPT on cornell-glass at 1.5x the path
+    /// tracer's RMSE; on door-ajar, bathroom and pool it chose the path tracer anyway
+    /// (docs/partition-estimators.md, "The per-pixel estimator").
+    std::string pixelEstimator = "auto";
     /// The budget across partitions: "neyman" (by measured error per cost, effort_plan.h) or
     /// "p" (the paper's Eq. 10: mutations in proportion to P(i); every partition has chains).
     std::string allocation = "p";
@@ -85,6 +92,13 @@ void addPipelineParameters(SettingsTable<S>& t) {
                         "paper's), per-pixel (BDPT restricted to the partition, for all)")
               .withChoices({"auto", "chains", "per-pixel"}),
           &PartitionPipelineSettings::estimators);
+    t.add(ParameterSpec("pixel_estimator",
+                        "the per-pixel partitions' samples: auto (the path tracer's in a scene "
+                        "without delta lights, else BDPT's), pilot (both piloted, the one "
+                        "predicted to give less error per cost), pt (not in a scene with a delta "
+                        "light) or bdpt")
+              .withChoices({"auto", "pilot", "pt", "bdpt"}),
+          &PartitionPipelineSettings::pixelEstimator);
     t.add(ParameterSpec("allocation",
                         "the budget across partitions: neyman (by the pilots' error per cost) or "
                         "p (Eq. 10, mutations in proportion to P(i); with estimators=chains only, "

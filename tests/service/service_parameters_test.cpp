@@ -38,6 +38,7 @@ const std::map<std::string, std::string>& cheapValues() {
         {"burn_in", "16"},
         {"partitions", "classes"},
         {"estimators", "per-pixel"},
+        {"pixel_estimator", "pt"},
         {"allocation", "neyman"},
         {"pilot_share", "0.1"},
         {"direct", "chains"},

@@ -287,7 +287,8 @@ class ClientTest(unittest.TestCase):
         self.assertTrue(guided.parameters["width"].shared)
         self.assertEqual([p.name for p in guided.own_parameters()],
                          ["k", "partitions", "prepass", "bootstrap", "chains", "startup_share", "burn_in",
-                          "estimators", "allocation", "direct", "pilot_share", "target_error",
+                          "estimators", "pixel_estimator", "allocation", "direct", "pilot_share",
+                          "target_error",
                           "large_step_rate", "y",
                           "radius", "epsilon"])
         self.assertEqual([p.name for p in algorithms["pt"].own_parameters()], ["target_error"])

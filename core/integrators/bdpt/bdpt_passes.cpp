@@ -132,7 +132,7 @@ void BdptPasses::renderSample(int x, int y, uint64_t sample, Film::Pixel& pixel,
                 connector.connect(scratch.camera, scratch.light, s, t, rng, scratch.rays,
                                   settings_.weighted, settings_.heuristic);
             if (!c.valid || c.weight <= 0) continue;
-            if (key_ && !key_(c.type)) continue;
+            if (key_ && !key_(c.type, sample)) continue;
             Rgb value = c.value * c.weight;
             if (t == 1)
                 splats.push_back({c.raster, c.type, value});

@@ -24,9 +24,12 @@ class FilmSink {
         if (oddHalf) oddPixel_.emplace(oddHalf->pixel(x, y));
     }
     /// The sample index whose path comes next.
-    void selectSample(uint64_t sample) { odd_ = oddPixel_ && (sample & 1); }
+    void selectSample(uint64_t sample) {
+        sample_ = sample;
+        odd_ = oddPixel_ && (sample & 1);
+    }
     void add(PathType type, Rgb value) {
-        if (key_ && !(*key_)(type)) return;
+        if (key_ && !(*key_)(type, sample_)) return;
         pixel_.add(type, value);
         if (odd_) oddPixel_->add(type, value);
     }
@@ -36,6 +39,7 @@ class FilmSink {
     Film::Pixel pixel_;
     std::optional<Film::Pixel> oddPixel_;
     const ContributionKey* key_;
+    uint64_t sample_ = 0;
     bool odd_ = false;
 };
 

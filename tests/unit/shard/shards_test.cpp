@@ -104,10 +104,10 @@ INSTANTIATE_TEST_SUITE_P(
                     Case{"partitioned", BudgetKind::MutationsPerPixel, 6, "chains"},
                     // Every partition per pixel: shards split the samples.
                     Case{"partitioned", BudgetKind::MutationsPerPixel, 9, "per-pixel"},
-                    // The default (auto): every partition per pixel here, 7 or more samples.
-                    Case{"partitioned", BudgetKind::MutationsPerPixel, 12},
+                    // The default (auto): every partition per pixel here (the path tracer's, 10 samples).
+                    Case{"partitioned", BudgetKind::MutationsPerPixel, 24},
                     Case{"guided", BudgetKind::MutationsPerPixel, 6, "chains"},
-                    Case{"guided", BudgetKind::MutationsPerPixel, 12}),
+                    Case{"guided", BudgetKind::MutationsPerPixel, 24}),
     [](const auto& info) {
         std::string name = info.param.algorithm;
         if (info.param.estimators) name += "_" + std::string(info.param.estimators);
