@@ -462,6 +462,24 @@ Image Film::resolveCombined(float scale) const {
     return img;
 }
 
+Image Film::resolveType(PathType type, float scale) const {
+    Image img(width_, height_);
+    for (size_t ti = 0; ti < tiles_.size(); ++ti) {
+        const int x0 = int(ti % size_t(tilesX())) * kTileSize;
+        const int y0 = int(ti / size_t(tilesX())) * kTileSize;
+        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+        for (const auto& t : tiles_[ti]->types) {
+            if (t.type != type) continue;
+            Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
+                img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
+            });
+        }
+    }
+    // Summed, then scaled, as resolve() does it: the same operations per pixel.
+    for (float& v : img.rgb) v *= scale;
+    return img;
+}
+
 namespace {
 
 /// body(i) for i < count, on the pool's threads when there is one. Callers make every body

@@ -109,6 +109,11 @@ class Film {
     LayeredImage takeResolved(float scale, int maxTypeLayers, ThreadPool* pool = nullptr);
     /// Only the combined image, cheaper than resolve (for previews).
     Image resolveCombined(float scale) const;
+    /// Only the sums of one kept type, scaled: resolve()'s layer of it where resolve keeps it
+    /// as a layer of its own (black for a type the film does not keep or that never occurred).
+    /// One image's memory, not every layer's (the per-pixel pilot reads its partitions' pairs
+    /// of layers one pair at a time).
+    Image resolveType(PathType type, float scale) const;
 
     /// A versioned binary form of every sum (all types, exact), for a shard's result (shard/);
     /// deserialize throws std::invalid_argument on anything else (truncated, another version).

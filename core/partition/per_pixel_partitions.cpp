@@ -47,14 +47,13 @@ RenderSettings keepingEveryKey(RenderSettings s, const std::vector<Partition>& p
     return s;
 }
 
-/// The per-pixel partitions' images from a resolved per-pixel film (its layers moved out); the
-/// keys from keyOf(first) on (byParity's odd samples: first = the partitions).
+/// The per-pixel partitions' images from a resolved per-pixel film (its layers moved out).
 std::vector<Image> imagesOf(LayeredImage& resolved, const std::vector<Partition>& partitions,
-                            int width, int height, size_t first = 0) {
+                            int width, int height) {
     std::vector<Image> out(partitions.size());
     for (size_t g = 0; g < partitions.size(); ++g) {
         if (!partitions[g].perPixel) continue;
-        const std::string key = PerPixelPartitions::keyOf(first + g).toString();
+        const std::string key = PerPixelPartitions::keyOf(g).toString();
         for (auto& layer : resolved.layers)
             if (layer.name == key) out[g] = std::move(layer.image);
         if (out[g].empty()) out[g] = Image(width, height);
@@ -114,13 +113,9 @@ std::vector<Image> PerPixelPartitions::takeImages(uint64_t spp, ThreadPool* pool
     return imagesOf(resolved, partitions_, settings_.width, settings_.height);
 }
 
-std::pair<std::vector<Image>, std::vector<Image>> PerPixelPartitions::parityImages(
-    uint64_t perParity) const {
-    LayeredImage resolved = passes_->resolve(std::max<uint64_t>(perParity, 1), nullptr);
-    std::vector<Image> even = imagesOf(resolved, partitions_, settings_.width, settings_.height);
-    std::vector<Image> odd =
-        imagesOf(resolved, partitions_, settings_.width, settings_.height, partitions_.size());
-    return {std::move(even), std::move(odd)};
+Image parityImage(const Film& film, size_t partitions, size_t g, bool odd, uint64_t perParity) {
+    return film.resolveType(PerPixelPartitions::keyOf(odd ? partitions + g : g),
+                            1.0f / float(std::max<uint64_t>(perParity, 1)));
 }
 
 Film PerPixelPartitions::takeFilm() { return passes_->takeFilm(); }
@@ -174,19 +169,24 @@ PerPixelPilot runPerPixelPilot(const RenderContext& ctx, const std::vector<Parti
     PerPixelPartitions pilotRender(ctx, all, estimator, /*byParity=*/true);
     pilotRender.renderOnlyTiles(pilot.tiles);
     pilotRender.renderPass({first, first + 2 * k}, progress);
-    const auto [even, odd] = pilotRender.parityImages(k);
+    const double seconds = secondsSince(begin);
+    const Film film = pilotRender.takeFilm();
     PerPixelPilot out;
     out.variance.assign(partitions.size(), 0);
     out.varianceRgb.assign(partitions.size(), 0);
     for (size_t g = 0; g < partitions.size(); ++g) {
+        // One partition's two images at a time (at 1920x1080, every partition's at once were
+        // ~600 MB for a pilot over 65536 pixels).
+        const Image even = parityImage(film, partitions.size(), g, false, k);
+        const Image odd = parityImage(film, partitions.size(), g, true, k);
         // One k-sample estimate's variance is half the squared difference of two; one sample's
         // k times it (where the error falls as 1 / n).
-        out.variance[g] = scale * double(k) * luminanceSquaredDifference(even[g], odd[g]) / 2;
+        out.variance[g] = scale * double(k) * luminanceSquaredDifference(even, odd) / 2;
         // halvesError's is the variance of the two estimates' mean: one's is twice it.
-        out.varianceRgb[g] = scale * double(k) * 2 * halvesError(even[g], odd[g], 1, 1).variance;
+        out.varianceRgb[g] = scale * double(k) * 2 * halvesError(even, odd, 1, 1).variance;
     }
     out.raysPerSample = scale * double(pilotRender.rays()) / double(2 * k);
-    out.secondsPerSample = scale * secondsSince(begin) / double(2 * k);
+    out.secondsPerSample = scale * seconds / double(2 * k);
     return out;
 }
 

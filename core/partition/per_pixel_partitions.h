@@ -52,9 +52,6 @@ class PerPixelPartitions {
     /// made): the end of the per-pixel phase, whose film the chains' phase no longer needs.
     /// Only rays() afterwards.
     std::vector<Image> takeImages(uint64_t spp, ThreadPool* pool = nullptr);
-    /// byParity: partition g's images of the even and of the odd sample indices, after
-    /// `perParity` samples of each per pixel.
-    std::pair<std::vector<Image>, std::vector<Image>> parityImages(uint64_t perParity) const;
     Film takeFilm();
     uint64_t rays() const;
     /// Only these film tiles from now on (SamplePassRenderer::renderOnlyTiles).
@@ -73,6 +70,11 @@ class PerPixelPartitions {
     RenderContext ctx_;
     std::unique_ptr<SamplePassRenderer> passes_;
 };
+
+/// Partition g's image of the even (odd = false) or the odd sample indices in a byParity film
+/// of `partitions` partitions (PerPixelPartitions::takeFilm), after `perParity` samples of each
+/// per pixel.
+Image parityImage(const Film& film, size_t partitions, size_t g, bool odd, uint64_t perParity);
 
 /// The images of the per-pixel partitions from their film (a PerPixelPartitions' or the merged
 /// shards') after `spp` samples of every pixel: empty for a partition with chains.

@@ -148,6 +148,24 @@ TEST(Film, LayersSumToCombined) {
     EXPECT_TRUE(bytewiseEqual(film.resolveCombined(scale), img.combined));
 }
 
+TEST(Film, ResolveTypeGivesResolvesLayerOfThatType) {
+    const int w = 37, h = 23;
+    Film film(w, h);
+    addAll(film, randomSamples(w, h, 20000, 3, /*dyadic=*/false));
+    const float scale = 1.0f / 5.0f;
+    const LayeredImage img = film.resolve(scale, 100);
+    for (const PathType& type : someTypes()) {
+        const Image* layer = img.layer(type.toString());
+        ASSERT_NE(layer, nullptr) << type.toString();
+        EXPECT_TRUE(bytewiseEqual(film.resolveType(type, scale), *layer)) << type.toString();
+    }
+    // A type that never occurred: black.
+    PathType absent;
+    for (int i = 0; i < 40; ++i) absent = absent.withVertex(true);
+    const Image black = film.resolveType(absent, scale);
+    EXPECT_TRUE(std::all_of(black.rgb.begin(), black.rgb.end(), [](float v) { return v == 0; }));
+}
+
 TEST(Film, LayersAreSortedByTotalAndNamedByType) {
     Film film(20, 20);
     const auto types = someTypes();
