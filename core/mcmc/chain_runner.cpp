@@ -43,13 +43,25 @@ ChainRunner::ChainRunner(const RenderContext& ctx, const ChainPlan& plan,
     int w = ctx.settings.width, h = ctx.settings.height;
     if (layout == FilmLayout::AllAndHalf && plan.groups.size() != 2)
         throw std::invalid_argument("chain plan: the all-and-half layout needs two groups");
+    // PerGroupWithHalves (partitioned's): a group without chains (a partition estimated per
+    // pixel) gets empty films, not two dense ones it would never fill (at 1920x1080, 100 MB a
+    // partition).
+    std::vector<bool> hasChains(plan.groups.size(), false);
+    for (const PlannedChain& c : plan.chains) hasChains.at(c.group) = true;
+    auto filmSize = [&](size_t g) {
+        return layout == FilmLayout::PerGroupWithHalves && !hasChains[g] ? std::pair{0, 0}
+                                                                         : std::pair{w, h};
+    };
     for (size_t g = 0; g < plan.groups.size(); ++g) {
         const bool combinedOnly = layout == FilmLayout::AllAndHalf && g == 1;
-        films_.emplace_back(w, h, combinedOnly ? TypeLayers::of({}) : plan.layers);
+        const auto [fw, fh] = filmSize(g);
+        films_.emplace_back(fw, fh, combinedOnly ? TypeLayers::of({}) : plan.layers);
     }
     if (layout == FilmLayout::PerGroupWithHalves)
-        for (size_t g = 0; g < plan.groups.size(); ++g)
-            films_.emplace_back(w, h, TypeLayers::of({}));
+        for (size_t g = 0; g < plan.groups.size(); ++g) {
+            const auto [fw, fh] = filmSize(g);
+            films_.emplace_back(fw, fh, TypeLayers::of({}));
+        }
     std::vector<uint64_t> chainsOfGroup(plan.groups.size(), 0);
     for (const PlannedChain& c : plan.chains) {
         MarkovPath start;

@@ -41,7 +41,9 @@ class ChainRunner {
         AllAndHalf,
         /// PerGroup, and after the groups' films one combined-only film per group holding its
         /// odd chains (every other chain of the group in plan order): group g's two halves, for
-        /// its error estimate (halvesError), at 24 bytes a pixel more per group.
+        /// its error estimate (halvesError), at 24 bytes a pixel more per group. A group
+        /// without chains (a partition estimated per pixel) has empty (0x0) films: its
+        /// resolveGroupCombined is an empty image.
         PerGroupWithHalves,
     };
 
