@@ -197,24 +197,27 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (hasPartitions(algorithm)) mlt = partitionedExtraBytes(s);
     double mltBytes = mlt.bootstrap + mlt.chains;
     // Partitions estimated per pixel (partition/per_pixel_partitions.h, unless every partition
-    // has chains): the per-pixel estimator's film (the combined sums and one a per-pixel
-    // partition) and, before it, the pilots' two one-sample films of every partition and the
-    // chains' pilot's two halves of each (partition/effort_pilot.h): 2 (K + 2) sums a pixel at
-    // most; and bdpt's splats, the per-pixel estimator it may be.
+    // has chains): the per-pixel phase's film (the combined sums and one a per-pixel
+    // partition: K + 3 sums a pixel at most) and bdpt's splats, the per-pixel estimator it may
+    // be. Before it, the pilots hold less: the per-pixel pilot one film over at most 65536
+    // pixels' samples, the chains' pilot one partition's two halves at a time
+    // (partition/effort_pilot.h). The phase ends before the chains' films are made (their
+    // images stay: `parts`), so the two are counted as the larger, not their sum.
     double perPixel = 0;
     if (hasPartitions(algorithm)) {
         const PartitionedSettings p = partitionedParameters().resolve(s.parameters);
         if (p.estimators != "chains")
-            perPixel = padded * kSum * 2 * (partitions + 1) + bdptExtraBytes(pixels);
-        else if (p.allocation != "p")  // the chains' pilot alone: two halves a partition
-            perPixel = padded * kSum * 2 * partitions;
+            perPixel = padded * kSum * (partitions + 1) + bdptExtraBytes(pixels);
+        else if (p.allocation != "p")  // the chains' pilot alone: two halves of one partition
+            perPixel = padded * kSum * 2;
     }
+    const double filmOrPerPixel = std::max(film, perPixel);
     double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
     // An environment image while it loads: the decoded channels (4 B each), its RGB copy and
     // the map's importance tables (environment_map.h: 12 + 8 B a pixel).
     double sky = double(environment.pixels()) * (4.0 * environment.channels + 20);
     MemoryEstimate e;
-    e.bytes = uint64_t(film + images + parts + splats + survey + mltBytes + perPixel + guides +
+    e.bytes = uint64_t(filmOrPerPixel + images + parts + splats + survey + mltBytes + guides +
                        scene + sky + kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s (%d type buffers), %d layers %s", s.width,
