@@ -462,12 +462,16 @@ Image Film::resolveCombined(float scale) const {
     return img;
 }
 
+Film::TileRect Film::tileRect(size_t ti) const {
+    const int x0 = int(ti % size_t(tilesX())) * kTileSize;
+    const int y0 = int(ti / size_t(tilesX())) * kTileSize;
+    return {x0, y0, std::min(kTileSize, width_ - x0), std::min(kTileSize, height_ - y0)};
+}
+
 Image Film::resolveType(PathType type, float scale) const {
     Image img(width_, height_);
     for (size_t ti = 0; ti < tiles_.size(); ++ti) {
-        const int x0 = int(ti % size_t(tilesX())) * kTileSize;
-        const int y0 = int(ti / size_t(tilesX())) * kTileSize;
-        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+        const auto [x0, y0, w, h] = tileRect(ti);
         for (const auto& t : tiles_[ti]->types) {
             if (t.type != type) continue;
             Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
@@ -501,9 +505,7 @@ std::map<PathType, double> Film::typeLuminance(ThreadPool* pool) const {
     std::vector<std::vector<std::pair<PathType, double>>> tileTotals(tiles_.size());
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        const int x0 = int(ti % size_t(tilesX())) * kTileSize;
-        const int y0 = int(ti / size_t(tilesX())) * kTileSize;
-        const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+        const auto [x0, y0, w, h] = tileRect(ti);
         auto& sums = tileTotals[ti];
         sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
@@ -523,13 +525,6 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     // Every step below is either per tile (each tile writes only its own pixels or its own
     // entry), per layer, or a serial reduction in a fixed order, so the result is the same bit
     // for bit with or without a pool and however the tasks land on threads.
-    const int tx = tilesX();
-    auto tileRect = [&](size_t ti, int& x0, int& y0, int& w, int& h) {
-        x0 = int(ti % size_t(tx)) * kTileSize;
-        y0 = int(ti / size_t(tx)) * kTileSize;
-        w = std::min(kTileSize, width_ - x0);
-        h = std::min(kTileSize, height_ - y0);
-    };
 
     const LayerOrder order = layerOrder(maxTypeLayers, pool);
     const size_t keep = order.keep;
@@ -547,8 +542,7 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     // scaled (as scaling whole images after summing: the same operations per pixel).
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        int x0, y0, w, h;
-        tileRect(ti, x0, y0, w, h);
+        const auto [x0, y0, w, h] = tileRect(ti);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 out.combined.set(x0 + x, y0 + y,
@@ -607,7 +601,6 @@ LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool
     // peak is the film and one layer rather than the film and every layer.
     const LayerOrder order = layerOrder(maxTypeLayers, pool);
     const size_t layerCount = order.keep + (order.hasOther ? 1 : 0);
-    const int tx = tilesX();
     // Per tile, its buffers by (layer, PathType): each layer's in the order resolve adds them.
     std::vector<std::vector<std::pair<size_t, const Tile::TypeBuffer*>>> byLayer(tiles_.size());
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
@@ -623,8 +616,7 @@ LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool
         Image img(width_, height_);
         forEachIndex(pool, tiles_.size(), [&](size_t ti) {
             const Tile& tile = *tiles_[ti];
-            const int x0 = int(ti % size_t(tx)) * kTileSize, y0 = int(ti / size_t(tx)) * kTileSize;
-            const int w = std::min(kTileSize, width_ - x0), h = std::min(kTileSize, height_ - y0);
+            const auto [x0, y0, w, h] = tileRect(ti);
             auto addBuffer = [&](const Tile::TypeBuffer& t) {
                 Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
                     img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());

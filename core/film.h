@@ -149,6 +149,11 @@ class Film {
         std::string name(size_t layer) const;
     };
     LayerOrder layerOrder(int maxTypeLayers, ThreadPool* pool) const;
+    /// Tile ti's pixels: its top-left corner and its size (edge tiles are partial).
+    struct TileRect {
+        int x0, y0, w, h;
+    };
+    TileRect tileRect(size_t ti) const;
     /// Frees the blocks of the types of `layer` (takeResolved).
     void releaseLayer(const LayerOrder& order, size_t layer);
     /// One tile's part of serialize(), and its reading back into an empty tile.
