@@ -14,10 +14,20 @@ ChainErrorMonitor::ChainErrorMonitor(const RenderSettings& settings, double targ
       minMutations_(kMinMutationsPerPixel * double(settings.width) * double(settings.height)),
       estimator_(std::move(estimator)) {}
 
+bool ChainErrorMonitor::dueAfter(double sinceLast, double lastCost) {
+    return sinceLast >= std::max(0.5, 20 * lastCost);
+}
+
+void ChainErrorMonitor::Estimate::publish(ProgressReporter& progress) const {
+    std::map<std::string, double> values = parts;
+    if (combined >= 0) values["error_estimate"] = combined;
+    if (!values.empty()) progress.mergeValues(values);
+}
+
 bool ChainErrorMonitor::due() const {
     // Every round until the first estimate (the halves need mutations in both).
     if (everyRound_ || latest_.combined < 0) return true;
-    return secondsSince(last_) >= std::max(0.5, 20 * lastCost_);
+    return dueAfter(secondsSince(last_), lastCost_);
 }
 
 void ChainErrorMonitor::estimateNow() {
@@ -37,9 +47,7 @@ void ChainErrorMonitor::afterRound(ChainRunner& runner, ProgressReporter& progre
     }
     // The runner replaces the phase's values every round: these go in again each time.
     if (latest_.combined < 0) return;
-    std::map<std::string, double> values = latest_.parts;
-    values["error_estimate"] = latest_.combined;
-    progress.mergeValues(values);
+    latest_.publish(progress);
 }
 
 void ChainErrorMonitor::addStats(RenderStats& st) const {

@@ -36,12 +36,20 @@ class ChainErrorMonitor {
         double target = -1;
         std::map<std::string, double> parts;
         double forTarget() const { return target >= 0 ? target : combined; }
+        /// Into the phase's progress values: the parts, and "error_estimate" when there is a
+        /// combined estimate (nothing when there is neither).
+        void publish(ProgressReporter& progress) const;
     };
     using Estimator = std::function<Estimate()>;
 
     /// `targetError` 0: never stop; the settings give the budget's kind and the image's pixels
     /// (the trust rule's mutations).
     ChainErrorMonitor(const RenderSettings& settings, double targetError, Estimator estimator);
+
+    /// The rule for an estimate that is not needed every round: due once `sinceLast` seconds
+    /// have passed since the last, which took `lastCost` seconds: at most every half second and
+    /// at most 5% of the time. (The per-pixel partitions' passes follow it too.)
+    static bool dueAfter(double sinceLast, double lastCost);
 
     /// After a round of `runner`'s chains: estimate when due, publish, stop at the target.
     void afterRound(ChainRunner& runner, ProgressReporter& progress);

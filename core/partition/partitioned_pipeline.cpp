@@ -418,21 +418,6 @@ struct PerPixelRun {
     bool reachedTarget = false;  // stopped at the target error (no chains to follow)
 };
 
-/// The per-pixel partitions' error so far (partition_error.h; no chains yet, so the combined
-/// image's only when every partition is per pixel), from their images after run.spp samples.
-ChainErrorMonitor::Estimate perPixelError(const PartitionedStart& st, const PerPixelRun& run,
-                                          const std::vector<Image>& images) {
-    return estimatePartitionError(st.partitions, nullptr, images, st.pixelVarianceRgb, run.spp);
-}
-
-/// The estimate's values into the phase's progress (the dashboard's error curves), as the
-/// chains' monitor publishes its own.
-void publishError(const ChainErrorMonitor::Estimate& e, ProgressReporter& progress) {
-    std::map<std::string, double> values = e.parts;
-    if (e.combined >= 0) values["error_estimate"] = e.combined;
-    if (!values.empty()) progress.mergeValues(values);
-}
-
 /// A preview of the per-pixel phase: its partitions' images so far, the chains' partitions
 /// black (they have not started).
 void previewPerPixel(const RenderContext& ctx, const PartitionedStart& st, const PerPixelRun& run,
@@ -498,12 +483,12 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                              secondsSince(lastPreview), share - elapsed, watch);
         out.renderer->renderPass({out.spp, out.spp + n}, progress);
         out.spp += n;
-        // The estimate after every pass while a target is watched, else as the chains' monitor
-        // does: every half second, at most 5% of the time (a 1280x720 image's partitions take
-        // a tenth of a second to resolve); a preview after the first pass, then once per
+        // The estimate (the dashboard's error curves) after every pass while a target is
+        // watched, else by the chains' monitor's rule (a 1280x720 image's partitions take a
+        // tenth of a second to resolve); a preview after the first pass, then once per
         // interval.
-        const bool estimate =
-            watch || out.spp == n || secondsSince(lastEstimate) >= std::max(0.5, 20 * estimateCost);
+        const bool estimate = watch || out.spp == n ||
+                              ChainErrorMonitor::dueAfter(secondsSince(lastEstimate), estimateCost);
         const bool preview =
             previews && out.spp < most &&
             (out.spp == n || secondsSince(lastPreview) >= rs.previewIntervalSeconds);
@@ -511,10 +496,12 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
         const auto resolving = Clock::now();
         std::vector<Image> images = out.renderer->images(out.spp, &ctx.pool);
         if (estimate) {
-            const ChainErrorMonitor::Estimate e = perPixelError(st, out, images);
+            // No chains yet: the combined image's error only when every partition is per pixel.
+            const ChainErrorMonitor::Estimate e = estimatePartitionError(
+                st.partitions, nullptr, images, st.pixelVarianceRgb, out.spp);
             lastEstimate = Clock::now();
             estimateCost = secondsSince(resolving);
-            publishError(e, progress);
+            e.publish(progress);
             // With a target to watch, the render's own estimate stops it (trusted from 2 spp).
             out.reachedTarget =
                 watch && out.spp >= 2 && e.combined >= 0 && e.combined <= targetError;
