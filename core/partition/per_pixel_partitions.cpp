@@ -17,21 +17,25 @@ PathType PerPixelPartitions::keyOf(size_t g) {
     // The most vertices, with g's bits as the specular ones: a distinct key for every g (a
     // count of g vertices would stop at 64), and never a path's type in this film.
     PathType key;
+    static_assert(PathType::kMaxScatteringVertices <= 64, "one bit of g a vertex");
     for (int v = 0; v < PathType::kMaxScatteringVertices; ++v)
-        key = key.withVertex(v < 64 && ((uint64_t(g) >> v) & 1u));
+        key = key.withVertex(((uint64_t(g) >> v) & 1u) != 0);
     return key;
 }
 
 namespace {
 
-TypeLayers keysOf(const std::vector<Partition>& partitions, bool byParity) {
-    std::vector<PathType> keys;
+/// The film's layers: the keys (`keys`[i] = keyOf(i)) of the per-pixel partitions, and with
+/// `byParity` their odd samples' too.
+TypeLayers layersOf(const std::vector<Partition>& partitions, const std::vector<PathType>& keys,
+                    bool byParity) {
+    std::vector<PathType> kept;
     for (size_t g = 0; g < partitions.size(); ++g) {
         if (!partitions[g].perPixel) continue;
-        keys.push_back(PerPixelPartitions::keyOf(g));
-        if (byParity) keys.push_back(PerPixelPartitions::keyOf(partitions.size() + g));
+        kept.push_back(keys[g]);
+        if (byParity) kept.push_back(keys[partitions.size() + g]);
     }
-    return TypeLayers::of(std::move(keys));
+    return TypeLayers::of(std::move(kept));
 }
 
 }  // namespace
@@ -70,8 +74,8 @@ PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
       byParity_(byParity),
       settings_(keepingEveryKey(ctx.settings, partitions)),
       ctx_{ctx.scene, ctx.camera, settings_, ctx.pool, ctx.cancel, ctx.observer} {
-    // The partition of a contribution's type, if it is estimated here: its key; else dropped.
     for (size_t i = 0; i < 2 * partitions_.size(); ++i) keys_.push_back(keyOf(i));
+    // The partition of a contribution's type, if it is estimated here: its key; else dropped.
     auto key = [this](PathType& type, uint64_t sample) {
         for (size_t g = 0; g < partitions_.size(); ++g) {
             if (!partitions_[g].holds(type)) continue;
@@ -81,11 +85,11 @@ PerPixelPartitions::PerPixelPartitions(const RenderContext& ctx,
         }
         return false;
     };
-    const TypeLayers keys = keysOf(partitions_, byParity_);
+    const TypeLayers layers = layersOf(partitions_, keys_, byParity_);
     if (estimator == PerPixelEstimator::PathTracer)
-        passes_ = makeRestrictedPathTracerPasses(ctx_, keys, key);
+        passes_ = makeRestrictedPathTracerPasses(ctx_, layers, key);
     else
-        passes_ = std::make_unique<BdptPasses>(ctx_, BdptSettings{}, keys, key);
+        passes_ = std::make_unique<BdptPasses>(ctx_, BdptSettings{}, layers, key);
 }
 
 PerPixelPartitions::~PerPixelPartitions() = default;

@@ -35,7 +35,7 @@ class PerPixelPartitions {
   public:
     /// Estimates the partitions with `perPixel` set (the others' contributions are dropped).
     /// `byParity` (the pilot's): the even and the odd sample indices of each partition under
-    /// keys of their own (parityImages), two independent estimates of its image.
+    /// keys of their own (parityImage), two independent estimates of its image.
     PerPixelPartitions(const RenderContext& ctx, const std::vector<Partition>& partitions,
                        PerPixelEstimator estimator, bool byParity = false);
     ~PerPixelPartitions();
