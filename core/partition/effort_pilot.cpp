@@ -85,7 +85,9 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
     const double seconds = timed ? std::max(1e-3, s.pilotShare * secondsLeft) : 0;
     ProgressReporter progress(ctx.observer, "pilot", "mutations",
                               timed ? 0 : double(perPartition * measured.size()), seconds);
-    auto begin = Clock::now();
+    // The chains' running time only, as when every partition's ran at once: not each
+    // partition's plan and chain set-up (regenerating its starts).
+    double chainSeconds = 0;
     std::vector<uint64_t> done(partitions.size(), 0), rays(partitions.size(), 0);
     std::vector<double> variance(partitions.size(), -1);
     for (size_t g : measured) {
@@ -93,7 +95,9 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
         ChainRunner runner(
             ctx, plan, [&](uint32_t) { return mutations(uint32_t(g)); },
             [&](uint32_t) { return restrictions(uint32_t(g)); }, s.roundMutations);
+        const auto running = Clock::now();
         runner.run(progress, timed ? seconds / double(measured.size()) : 0);
+        chainSeconds += secondsSince(running);
         variance[g] = halvesVariance(runner);
         done[g] = runner.mutationsDone();
         rays[g] = runner.rays();
@@ -105,7 +109,7 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
         allRays += rays[g];
         allDone += done[g];
     }
-    const double secondsPerRay = allRays > 0 ? secondsSince(begin) / double(allRays) : 0;
+    const double secondsPerRay = allRays > 0 ? chainSeconds / double(allRays) : 0;
     const double unit = timed ? secondsPerRay : 1.0;  // a cost in seconds, or in rays
     out.rays += allRays;
     out.chainMutations = allDone;
