@@ -4,6 +4,7 @@
 // estimator follows pixel_estimator (the path tracer only where it can see every light).
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <stdexcept>
 
 #include "partition/effort_pilot.h"
@@ -44,10 +45,14 @@ TEST(PerPixelPartitions, TheParityHalvesSumToTheImageOfTheSameSamples) {
             const Image even = parityImage(halvesFilm, partitions.size(), g, false, 4);
             const Image odd = parityImage(halvesFilm, partitions.size(), g, true, 4);
             for (size_t i = 0; i < all[g].rgb.size(); ++i) {
-                // Every contribution in exactly one half: (even + odd) / 2 is the whole image
-                // (each resolved from exact sums, so up to float rounding).
+                // Every contribution in exactly one half: the halves' fixed-point sums add up to
+                // the whole's exactly (bdpt's splats are summed per sample index, a group that
+                // lies in one half), so only float rounding parts them: each of the three sums
+                // rounds once to float (relative u = FLT_EPSILON / 2; the scales 1/4 and 1/8 are
+                // exact), and even + odd once more: |mean - all| <= 2u (even + odd) / 2 + u all
+                // = 2u all for these non-negative values, within 2 FLT_EPSILON all.
                 const float mean = (even.rgb[i] + odd.rgb[i]) / 2;
-                ASSERT_NEAR(mean, all[g].rgb[i], 1e-5f * std::max(1.0f, all[g].rgb[i]))
+                ASSERT_NEAR(mean, all[g].rgb[i], 2 * FLT_EPSILON * all[g].rgb[i])
                     << "partition " << g << ", component " << i;
                 lit += all[g].rgb[i];
             }
@@ -70,55 +75,56 @@ TEST(PerPixelPartitions, TheParityHalvesSumToTheImageOfTheSameSamples) {
 }
 
 TEST(PerPixelPartitions, ThePilotsVarianceIsTheSpreadOfIndependentRenders) {
-    // V_g / n is the error of partition g's image after n samples: over independent seeds, the
-    // sum over partitions and pixels of the luminance's variance at n = 8 samples, against the
-    // pilots' sum of V_g / 8, for the path tracer's k = 4 pilot and BDPT's k = 1 (cornell: no
-    // edge inside a pixel that the strata would gain on much). A factor-of-two band: each pilot
-    // is one draw of a sum over 192 pixels, and 6 of them are averaged (the test catches a V
-    // off by k, or halves that are not independent, which would give V near 0).
+    // V_g / n is the error of partition g's image after n samples, for n = 2k (k samples of each
+    // parity, as the pilot's halves: the pilot is then unbiased for it, strata included). Summed
+    // over partitions and pixels, the pilots' prediction against the measured variance: each
+    // pair of independent n-sample renders gives sum (x1 - x2)^2 / 2, an unbiased estimate of
+    // it. 24 pilots and 24 pairs, compared within the tolerance their own spreads give (a
+    // two-sample t test; with fewer, a V off by the factor k would pass). The path tracer's
+    // k = 4 pilot and BDPT's k = 1.
     const RenderScene scene = loadScene("cornell");
     const std::vector<Partition> partitions = allPerPixel(partitionsOf(scene, 2, 3, 4000));
     RenderObserver quiet;
     for (const auto& [estimator, k] : {std::pair{PerPixelEstimator::PathTracer, uint64_t(4)},
                                        std::pair{PerPixelEstimator::Bdpt, uint64_t(1)}}) {
         SCOPED_TRACE(perPixelEstimatorName(estimator));
-        double predicted = 0;
-        const int pilots = 6;
-        for (int p = 0; p < pilots; ++p) {
+        const uint64_t n = 2 * k;
+        std::vector<double> predicted;
+        for (int p = 0; p < 24; ++p) {
             test::TestRenderContext t(scene, tinySettings(1, 100 + p, BudgetKind::SamplesPerPixel));
             ProgressReporter progress(quiet, "pilot", "samples", 0);
             const PerPixelPilot pilot =
                 runPerPixelPilot(t.ctx, partitions, estimator, kPerPixelPilotSample, progress, k);
-            for (double v : pilot.variance) predicted += v / pilots;
+            double sum = 0;
+            for (double v : pilot.variance) sum += v / double(n);
+            predicted.push_back(sum);
         }
-        const int seeds = 24;
-        const uint64_t n = 8;
-        std::vector<std::vector<Image>> renders;  // per seed, per partition
-        for (int s = 0; s < seeds; ++s) {
-            test::TestRenderContext t(scene, tinySettings(1, 200 + s, BudgetKind::SamplesPerPixel));
+        auto render = [&](uint64_t seed) {
+            test::TestRenderContext t(scene, tinySettings(1, seed, BudgetKind::SamplesPerPixel));
             PerPixelPartitions r(t.ctx, partitions, estimator);
             ProgressReporter progress(quiet, "render", "samples", 0);
             r.renderPass({0, n}, progress);
-            renders.push_back(r.images(n));
-        }
-        double measured = 0;
-        for (size_t g = 0; g < partitions.size(); ++g) {
-            const Image& shape = renders[0][g];
-            for (int y = 0; y < shape.height; ++y)
-                for (int x = 0; x < shape.width; ++x) {
-                    double mean = 0, square = 0;
-                    for (const auto& seed : renders) {
-                        const double l = luminance(seed[g].at(x, y));
-                        mean += l / seeds;
-                        square += l * l / seeds;
+            return r.images(n);
+        };
+        std::vector<double> measured;
+        for (uint64_t pair = 0; pair < 24; ++pair) {
+            const std::vector<Image> a = render(200 + 2 * pair), b = render(201 + 2 * pair);
+            double sum = 0;
+            for (size_t g = 0; g < partitions.size(); ++g)
+                for (int y = 0; y < a[g].height; ++y)
+                    for (int x = 0; x < a[g].width; ++x) {
+                        const double d = luminance(a[g].at(x, y)) - luminance(b[g].at(x, y));
+                        sum += d * d / 2;
                     }
-                    measured += (square - mean * mean) * seeds / (seeds - 1);
-                }
+            measured.push_back(sum);
         }
-        ASSERT_GT(measured, 0.0);
-        const double ratio = predicted / double(n) / measured;
-        EXPECT_GT(ratio, 0.5) << "predicted " << predicted / double(n) << ", measured " << measured;
-        EXPECT_LT(ratio, 2.0) << "predicted " << predicted / double(n) << ", measured " << measured;
+        const test::MeanAndError p = test::meanAndError(predicted),
+                                 m = test::meanAndError(measured);
+        ASSERT_GT(m.mean, 0.0);
+        EXPECT_GT(p.mean, 0.0) << "halves that are not independent would give V near 0";
+        EXPECT_NEAR(p.mean, m.mean, test::twoSampleTolerance(p, m, 2))
+            << "predicted " << p.mean << " +- " << p.standardError << ", measured " << m.mean
+            << " +- " << m.standardError;
     }
 }
 
