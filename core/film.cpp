@@ -471,7 +471,8 @@ Film::TileRect Film::tileRect(size_t ti) const {
 Image Film::resolveType(PathType type, float scale) const {
     Image img(width_, height_);
     for (size_t ti = 0; ti < tiles_.size(); ++ti) {
-        const auto [x0, y0, w, h] = tileRect(ti);
+        const TileRect r = tileRect(ti);
+        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
         for (const auto& t : tiles_[ti]->types) {
             if (t.type != type) continue;
             Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
@@ -505,7 +506,8 @@ std::map<PathType, double> Film::typeLuminance(ThreadPool* pool) const {
     std::vector<std::vector<std::pair<PathType, double>>> tileTotals(tiles_.size());
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        const auto [x0, y0, w, h] = tileRect(ti);
+        const TileRect r = tileRect(ti);
+        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
         auto& sums = tileTotals[ti];
         sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
@@ -542,7 +544,8 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     // scaled (as scaling whole images after summing: the same operations per pixel).
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
-        const auto [x0, y0, w, h] = tileRect(ti);
+        const TileRect r = tileRect(ti);
+        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 out.combined.set(x0 + x, y0 + y,
@@ -616,7 +619,8 @@ LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool
         Image img(width_, height_);
         forEachIndex(pool, tiles_.size(), [&](size_t ti) {
             const Tile& tile = *tiles_[ti];
-            const auto [x0, y0, w, h] = tileRect(ti);
+            const TileRect r = tileRect(ti);
+            const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
             auto addBuffer = [&](const Tile::TypeBuffer& t) {
                 Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
                     img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());

@@ -85,8 +85,12 @@ TEST(PerPixelPartitions, ThePilotsVarianceIsTheSpreadOfIndependentRenders) {
     const RenderScene scene = loadScene("cornell");
     const std::vector<Partition> partitions = allPerPixel(partitionsOf(scene, 2, 3, 4000));
     RenderObserver quiet;
-    for (const auto& [estimator, k] : {std::pair{PerPixelEstimator::PathTracer, uint64_t(4)},
-                                       std::pair{PerPixelEstimator::Bdpt, uint64_t(1)}}) {
+    for (const auto& [estimatorOfPair, kOfPair] :
+         {std::pair{PerPixelEstimator::PathTracer, uint64_t(4)},
+          std::pair{PerPixelEstimator::Bdpt, uint64_t(1)}}) {
+        // Plain copies: clang 14 does not let a lambda capture a structured binding.
+        const PerPixelEstimator estimator = estimatorOfPair;
+        const uint64_t k = kOfPair;
         SCOPED_TRACE(perPixelEstimatorName(estimator));
         const uint64_t n = 2 * k;
         std::vector<double> predicted;
