@@ -507,13 +507,13 @@ std::map<PathType, double> Film::typeLuminance(ThreadPool* pool) const {
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
         const TileRect r = tileRect(ti);
-        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
         auto& sums = tileTotals[ti];
         sums.reserve(tile.types.size());
         for (const auto& t : tile.types) {
             // Pixels without a block are zero: skipping them leaves the double sum unchanged.
             double sum = 0;
-            Tile::forEachSum(t, w, h, [&](int, const FixedRgb& v) { sum += luminance(v.rgb()); });
+            Tile::forEachSum(t, r.w, r.h,
+                             [&](int, const FixedRgb& v) { sum += luminance(v.rgb()); });
             sums.emplace_back(t.type, sum);
         }
     });
