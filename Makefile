@@ -47,9 +47,10 @@ SAN_SLOW := Converge|AgreesWith|Chi2|ShowsAsBias|EstimatesTheIntegral|LocalCli|T
 # Left out under ASan: the service tests whose renders outlast their gRPC deadlines 10-20x
 # slower (ServiceMlt's 2048 mutations a pixel, every algorithm of ServiceParameters, the Slurm
 # cluster's shards), and the tests that compare the daemon's peak memory with its estimate
-# (PeakRss, WithinItsEstimate, PiecesNotTheirSize: ASan's shadow memory and quarantine add to
-# the peak, by design: its quarantine alone keeps 256 MiB of freed upload pieces).
-ASAN_SERVICE_SLOW := PeakRss|WithinItsEstimate|PiecesNotTheirSize|ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
+# (PeakRss, WithinItsEstimate, PiecesNotTheirSize, ItsReceiveQuota: ASan's shadow memory and
+# quarantine add to the peak, by design: its quarantine alone keeps 256 MiB of freed upload
+# pieces).
+ASAN_SERVICE_SLOW := PeakRss|WithinItsEstimate|PiecesNotTheirSize|ItsReceiveQuota|ServiceMlt.JobHasBootstrap|ServiceParameters|ServiceSlurm
 # ASan + UBSan: the unit and service tests.
 test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) $(ASAN_CMAKE) >/dev/null

@@ -43,6 +43,7 @@ void fillLimits(const ServiceLimits& limits, pb::Limits& l) {
     l.set_max_message_bytes(limits.maxMessageBytes);
     l.set_max_upload_streams(limits.maxUploadStreams);
     l.set_upload_ttl_seconds(limits.uploadTtlSeconds);
+    l.set_max_receive_bytes(limits.maxReceiveBytes);
 }
 
 }  // namespace

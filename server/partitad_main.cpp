@@ -4,6 +4,7 @@
 // run again after a restart), end the streams, flush the store, exit 0.
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -83,6 +84,13 @@ int run(const ServerOptions& options, const sigset_t& signals) {
     // loopback: three streamed 96 MiB uploads cost +51-84 MiB, three of 192 MiB +203 MiB);
     // a fixed 1 MiB stream window keeps them at +13-15 MiB whatever their size (1 MiB per
     // round trip: 20 MB/s a stream at 50 ms).
+    // gRPC assembles a request whole before it checks its size against the limit above, so
+    // the limit alone does not bound what a client sending more costs (three 192 MiB requests
+    // at once: +368 MiB). A resource quota on the transport's read buffers does: past it, gRPC
+    // resets streams (RESOURCE_EXHAUSTED) and the memory is given back.
+    grpc::ResourceQuota receiveQuota("partitad-receive");
+    receiveQuota.Resize(size_t(options.limits.maxReceiveBytes));
+    builder.SetResourceQuota(receiveQuota);
     builder.AddChannelArgument(GRPC_ARG_HTTP2_BDP_PROBE, 0);
     builder.AddChannelArgument(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 1 << 20);
     std::unique_ptr<grpc::Server> server = builder.BuildAndStart();

@@ -49,6 +49,7 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
     double rawPreviewMb = double(o.limits.maxRawPreviewBytes) / (1 << 20);
     double messageMb = double(o.limits.maxMessageBytes) / (1 << 20);
+    double receiveMb = double(o.limits.maxReceiveBytes) / (1 << 20);
     double uploadTtlMinutes = o.limits.uploadTtlSeconds / 60;
     double jobMemoryMb = -1, totalMemoryMb = -1,
            storeMb = -1;  // -1: the defaults finalizeServerOptions computes
@@ -89,6 +90,12 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
                    "largest request message, MiB: a scene sent inside SubmitJob must fit it "
                    "(clients stream larger ones through UploadScene); gRPC holds a message being "
                    "received whole")
+        ->capture_default_str();
+    app.add_option("--max-receive-mb", receiveMb,
+                   "memory gRPC may hold for requests being received, all connections "
+                   "together, MiB (at least twice --max-message-mb): beyond it, streams are "
+                   "reset with RESOURCE_EXHAUSTED, also a request larger than --max-message-mb "
+                   "that gRPC would otherwise receive whole before refusing it")
         ->capture_default_str();
     app.add_option("--max-upload-streams", o.limits.maxUploadStreams,
                    "most UploadScene streams in flight at once")
@@ -156,6 +163,12 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.maxMessageBytes = int64_t(messageMb * (1 << 20));
+    if (!(receiveMb >= 2 * messageMb) || receiveMb > 65536) {
+        std::fprintf(stderr,
+                     "partitad: --max-receive-mb must be in [2 x --max-message-mb, 65536]\n");
+        return 2;
+    }
+    o.limits.maxReceiveBytes = int64_t(receiveMb * (1 << 20));
     if (o.limits.maxUploadStreams < 1 || o.limits.maxUploadStreams > 1024) {
         std::fprintf(stderr, "partitad: --max-upload-streams must be in [1, 1024]\n");
         return 2;

@@ -17,6 +17,11 @@ struct ServiceLimits {
     /// Largest request message: an upload inside SubmitJob must fit it (larger scenes stream
     /// through UploadScene). gRPC holds a message being received whole, ~3x its size.
     int64_t maxMessageBytes = int64_t(4) << 20;
+    /// What gRPC may hold for requests being received, all connections together (a gRPC
+    /// resource quota on the transport's read buffers). gRPC assembles a message whole before
+    /// it compares it with maxMessageBytes; beyond this quota it resets streams instead
+    /// (RESOURCE_EXHAUSTED), so requests over the limit cannot grow the daemon without bound.
+    int64_t maxReceiveBytes = int64_t(256) << 20;
     int maxUploadStreams = 4;        // UploadScene streams in flight at once
     double uploadTtlSeconds = 3600;  // a staged upload no job names is removed after this
     double uploadIdleSeconds = 60;   // an upload silent this long may lose its place
