@@ -16,19 +16,10 @@ int chooseCandidate(const CandidateWeights& candidates, double u) {
     return last;  // u within rounding of 1
 }
 
-double candidateProbability(const std::vector<PixelOffset>& delta, const CandidateWeights& atP,
-                            int px, int py, int qx, int qy) {
-    if (!(atP.sum > 0)) return 0;
-    double weight = 0;
-    for (size_t k = 0; k < delta.size(); ++k)
-        if (px + delta[k].dx == qx && py + delta[k].dy == qy) weight += double(atP.weights[k]);
-    return weight / atP.sum;
-}
-
-double guidedProposalRatio(const std::vector<PixelOffset>& delta, const CandidateWeights& atP,
-                           const CandidateWeights& atQ, int px, int py, int qx, int qy) {
-    double forward = candidateProbability(delta, atP, px, py, qx, qy);
-    double reverse = candidateProbability(delta, atQ, qx, qy, px, py);
+double guidedProposalRatio(const CandidateWeights& atP, const CandidateWeights& atQ, int k,
+                           int back) {
+    double forward = atP.sum > 0 ? double(atP.weights[size_t(k)]) / atP.sum : 0;
+    double reverse = atQ.sum > 0 ? double(atQ.weights[size_t(back)]) / atQ.sum : 0;
     return forward > 0 ? reverse / forward : 0;
 }
 

@@ -42,16 +42,15 @@ void gatherCandidates(const std::vector<PixelOffset>& delta, int px, int py, int
 /// The index k chosen with probability w_k / sum, from u in [0, 1); -1 when the sum is 0.
 int chooseCandidate(const CandidateWeights& candidates, double u);
 
-/// P(q | Y'(p)): the weights of every k with p + delta_k = q (its multiplicity) over the sum;
-/// 0 when q is not a candidate or the sum is 0.
-double candidateProbability(const std::vector<PixelOffset>& delta, const CandidateWeights& atP,
-                            int px, int py, int qx, int qy);
-
-/// T(x' -> x) / T(x -> x') of a move from pixel p to pixel q, in image-plane measure (the
-/// pixel areas cancel). `atP` and `atQ` are the candidates around p and q. 0 when the reverse
-/// move is impossible (S'(p) = 0 seen from q); the forward move must have been possible.
+/// T(x' -> x) / T(x -> x') of a move from pixel p to q = p + delta_k, in image-plane measure
+/// (the pixel areas cancel). `atP` and `atQ` are the candidates around p and q, `back` an index
+/// with delta_back = -delta_k (offsets.h oppositeOffsets). Every offset that reaches q from p
+/// carries the weight S'(q), and as many reach p from q, so the multiplicity m cancels:
+///   [m S'(p) / sum_{Y'(q)} S'] / [m S'(q) / sum_{Y'(p)} S'],
+/// S'(q) = atP.weights[k] and S'(p) = atQ.weights[back]. 0 when the reverse move is impossible
+/// (S'(p) = 0 seen from q); the forward move must have been possible (atP.weights[k] > 0).
 /// paper Eq. 16
-double guidedProposalRatio(const std::vector<PixelOffset>& delta, const CandidateWeights& atP,
-                           const CandidateWeights& atQ, int px, int py, int qx, int qy);
+double guidedProposalRatio(const CandidateWeights& atP, const CandidateWeights& atQ, int k,
+                           int back);
 
 }  // namespace partita

@@ -26,6 +26,8 @@ GuidedPerturbation::GuidedPerturbation(const RenderScene& scene, const Camera& c
       camera_(camera),
       guide_(guide),
       delta_(delta),
+      lanes_(delta),
+      opposite_(oppositeOffsets(delta)),
       lens_(scene, camera, lensPixels) {}
 
 const CandidateWeights& GuidedPerturbation::candidatesAt(int x, int y, const PathVertex& anchor) {
@@ -44,9 +46,7 @@ const CandidateWeights& GuidedPerturbation::candidatesAt(int x, int y, const Pat
     slot.y = y;
     slot.anchor = anchor.p;
     slot.anchorNormal = anchor.ng;
-    gatherCandidates(
-        delta_, x, y, guide_.width(), guide_.height(),
-        [&](int qx, int qy) { return guide_.sPrime(qx, qy, anchor); }, slot.weights);
+    guide_.candidates(lanes_, x, y, anchor, slot.weights);
     return slot.weights;
 }
 
@@ -77,7 +77,7 @@ bool GuidedPerturbation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y,
     if (!pixelOf(y.raster, guide_.width(), guide_.height(), yx, yy) || yx != qx || yy != qy)
         return false;
     const CandidateWeights& atQ = candidatesAt(qx, qy, anchor);
-    double choice = guidedProposalRatio(delta_, atP, atQ, px, py, qx, qy);
+    double choice = guidedProposalRatio(atP, atQ, k, opposite_[size_t(k)]);
     lastSumRatio_ = atQ.sum / atP.sum;
     reverseOverForward =
         choice * retracedEyeDensity(camera_, x, s) / retracedEyeDensity(camera_, y, s);

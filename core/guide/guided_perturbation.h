@@ -67,6 +67,8 @@ class GuidedPerturbation : public Mutation {
     const Camera& camera_;
     const ImageGuide& guide_;
     const std::vector<PixelOffset>& delta_;
+    OffsetLanes lanes_;          // delta_ for the candidate sums' vector loop
+    std::vector<int> opposite_;  // the offset back from p + delta_k to p, for each k
     LensPerturbation lens_;
     CachedCandidates cache_[2];
     int older_ = 0;  // the least recently used slot

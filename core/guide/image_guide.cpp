@@ -19,19 +19,6 @@ std::vector<float> relativeToMean(const std::vector<float>& d) {
     return out;
 }
 
-float ImageGuide::sPrime(int x, int y, const PathVertex& anchor) const {
-    const GBufferTexel& texel = gbuffer_->at(x, y);
-    if (!texel.valid) return 0;
-    Vec3f d = anchor.p - texel.position;
-    float dist2 = lengthSquared(d);
-    if (!(dist2 > 0)) return 0;
-    Vec3f w = d / std::sqrt(dist2);
-    float geometry = absDot(texel.normal, w);
-    if (!anchor.atInfinity) geometry *= geometricCos(anchor, w) / dist2;
-    float s = texel.cameraTerm * texel.albedo * float(M_1_PI) * geometry * vPrime(x, y);
-    return std::isfinite(s) ? s : 0.0f;
-}
-
 double ImageGuide::supportFraction() const {
     size_t ones = 0;
     for (int y = 0; y < height(); ++y)

@@ -18,10 +18,13 @@
 // a pixel (support_mask.h).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include "guide/gbuffer.h"
+#include "guide/guided_choice.h"
+#include "guide/offsets.h"
 #include "guide/support_mask.h"
 #include "path/path_vertex.h"
 
@@ -46,8 +49,27 @@ class ImageGuide {
         return masks_->above(partition_, x, y) ? 1.0f : masks_->epsilon();
     }
     /// S'(q) for the fixed vertex `anchor` (x_{s+1}); 0 where the G-buffer has no valid texel.
+    /// Inline: the guided move evaluates it |Y'| times for each new pixel (candidates below).
     /// paper Eq. 15
-    float sPrime(int x, int y, const PathVertex& anchor) const;
+    float sPrime(int x, int y, const PathVertex& anchor) const {
+        const GBufferTexel& texel = gbuffer_->at(x, y);
+        if (!texel.valid) return 0;
+        Vec3f d = anchor.p - texel.position;
+        float dist2 = lengthSquared(d);
+        if (!(dist2 > 0)) return 0;
+        Vec3f w = d / std::sqrt(dist2);
+        float geometry = absDot(texel.normal, w);
+        if (!anchor.atInfinity) geometry *= geometricCos(anchor, w) / dist2;
+        float s = texel.cameraTerm * texel.albedo * float(M_1_PI) * geometry * vPrime(x, y);
+        return std::isfinite(s) ? s : 0.0f;
+    }
+    /// The candidates Y'(p) around pixel (px, py) (guided_choice.h): S'(p + delta_k) for every
+    /// k, 0 off the image, and their sum (in k's order). With AVX2, eight candidates at a time
+    /// (image_guide_candidates.cpp): the same formula as sPrime's arranged with one division,
+    /// so equal to it within a few ulps; every lane computes alike, so a pixel reached by
+    /// several offsets gets the same weight from each (Eq. 16's ratio needs that exactly).
+    void candidates(const OffsetLanes& offsets, int px, int py, const PathVertex& anchor,
+                    CandidateWeights& out) const;
 
     /// The fraction of pixels with V' = 1.
     double supportFraction() const;

@@ -36,4 +36,35 @@ std::vector<PixelOffset> guideOffsets(int count, float radius) {
     return delta;
 }
 
+OffsetLanes::OffsetLanes(const std::vector<PixelOffset>& delta) : count(delta.size()) {
+    const size_t padded = (count + kLanes - 1) / kLanes * kLanes;
+    // -2^20 pixels: off any image (limits are far below), and p + it cannot overflow.
+    constexpr int kOffImage = -(1 << 20);
+    dx.assign(padded, kOffImage);
+    dy.assign(padded, kOffImage);
+    for (size_t k = 0; k < count; ++k) {
+        dx[k] = delta[k].dx;
+        dy[k] = delta[k].dy;
+    }
+}
+
+std::vector<int> oppositeOffsets(const std::vector<PixelOffset>& delta) {
+    std::vector<int> opposite(delta.size(), -1);
+    for (size_t k = 0; k < delta.size(); ++k) {
+        const PixelOffset back{-delta[k].dx, -delta[k].dy};
+        int forwardCount = 0, backCount = 0;
+        for (size_t j = 0; j < delta.size(); ++j) {
+            forwardCount += delta[j] == delta[k];
+            if (delta[j] == back) {
+                ++backCount;
+                if (opposite[k] < 0) opposite[k] = int(j);
+            }
+        }
+        if (forwardCount != backCount)
+            throw std::invalid_argument(
+                "the guide's offsets are not symmetric (each shift as often as its negation)");
+    }
+    return opposite;
+}
+
 }  // namespace partita

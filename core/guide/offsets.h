@@ -13,6 +13,7 @@
 // (0, 0)): a collision is a multiplicity, which the proposal's T counts (guided_choice.h).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 namespace partita {
@@ -24,5 +25,20 @@ struct PixelOffset {
 
 /// Delta for |Y'| = `count` (>= 1) candidates in a disk of `radius` pixels (>= 0). paper Eq. 18
 std::vector<PixelOffset> guideOffsets(int count, float radius);
+
+/// Delta laid out for the candidate sums' vector loop (image_guide.h ImageGuide::candidates):
+/// the shifts' dx and dy apart, padded to a whole number of lanes with a shift that leaves any
+/// image (its weight is 0, and it is never returned).
+struct OffsetLanes {
+    static constexpr size_t kLanes = 8;  // floats in an AVX2 register
+    explicit OffsetLanes(const std::vector<PixelOffset>& delta);
+    size_t count = 0;         // |Delta|
+    std::vector<int> dx, dy;  // count rounded up to kLanes
+};
+
+/// For each k, an index j with delta_j = -delta_k (the move back from p + delta_k to p).
+/// Throws std::invalid_argument when `delta` is not symmetric: a shift not exactly as often in
+/// it as its negation (the guided move's ratio needs that, guided_choice.h).
+std::vector<int> oppositeOffsets(const std::vector<PixelOffset>& delta);
 
 }  // namespace partita

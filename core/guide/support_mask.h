@@ -34,6 +34,8 @@ class SupportMasks {
         size_t p = size_t(y) * size_t(width_) + size_t(x);
         return (masks_[partition][p >> 6] >> (p & 63)) & 1u;
     }
+    /// Partition i's bits, bit (y * width + x) of the little-endian words.
+    const uint64_t* bits(size_t partition) const { return masks_[partition].data(); }
     /// Memory held by the bits.
     size_t bytes() const;
 
