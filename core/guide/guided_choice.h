@@ -24,7 +24,8 @@ struct CandidateWeights {
 };
 
 /// Fills `out` with S'(p + delta_k) for every k: sPrime(x, y) for pixels on the width x height
-/// image, 0 off it.
+/// image, 0 off it. The plain form, for any weight function (the exact transition-matrix test's
+/// grids); the guided move uses ImageGuide::candidates, the same for the G-buffer's S'.
 template <typename SPrime>
 void gatherCandidates(const std::vector<PixelOffset>& delta, int px, int py, int width, int height,
                       SPrime&& sPrime, CandidateWeights& out) {
