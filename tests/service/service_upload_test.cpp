@@ -314,8 +314,8 @@ TEST(UploadScene, StreamedScenesCostTheDaemonPiecesNotTheirSize) {
     std::printf("peak growth of partitad, three streamed 96 MiB uploads: %.1f MiB\n", growth);
 
     // Inside SubmitJob a scene over the message limit is refused. (gRPC assembles a message
-    // whole before it checks its size, so what such a request costs while it arrives is
-    // bounded by gRPC, not here: see server/README.md "Uploads".)
+    // whole before it checks its size: what such requests cost while they arrive is bounded by
+    // the receive quota, OversizedRequestsCostTheDaemonAtMostItsReceiveQuota below.)
     pb::JobSpec inlineSpec;
     inlineSpec.mutable_scene()->set_glb(std::string(size_t(5) << 20, 'g'));
     Submitted refused = submit(*daemon.stub(), inlineSpec);
