@@ -302,8 +302,19 @@ LayeredImage readExr(const fs::path& path, std::map<std::string, std::string>* m
              std::to_string(maxPixels) + " allowed");
     const size_t npix = size_t(w) * h;
     std::vector<float> data(npix * nch);
-    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, data.data()))
-        fail(oiioError(in.get()));
+    // Scanline files a line at a time: OpenImageIO 2.4's read_image converts through a buffer of
+    // ~64 MiB whatever the image's size (a 3 x 1 HDR allocated 64 MiB; found by
+    // fuzz_environment_image), while read_scanline needs one line. Tiled files as a whole.
+    const size_t rowFloats = size_t(w) * size_t(nch);
+    if (spec.tile_width > 0) {
+        if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, data.data()))
+            fail(oiioError(in.get()));
+    } else {
+        for (int y = 0; y < h; ++y)
+            if (!in->read_scanline(spec.y + y, spec.z, OIIO::TypeDesc::FLOAT,
+                                   data.data() + size_t(y) * rowFloats))
+                fail(oiioError(in.get()));
+    }
     in->close();
 
     auto channelIndex = [&](const std::string& name) {
