@@ -6,7 +6,10 @@
 // Opening a scanline file, OpenEXR also allocates its line buffers (lines per compression block
 // x width x bytes per pixel) and its table of line offsets (one per block) from the data window
 // alone: a 750-byte file claiming a data window 268 million pixels wide made it allocate 1 GiB
-// (found by the same fuzzer). Both are refused above kMaxExrOpenBytes.
+// (found by the same fuzzer). Both are refused above kMaxExrOpenBytes. The walk reads values as
+// OpenEXR 3.1 does: a type it knows at its own size whatever the size field says (the header
+// goes on from there), a channel list to its empty name, a header cut short as far as it goes;
+// tiled files' tile buffers and offset tables and preview images count too.
 #pragma once
 
 #include <cstdint>

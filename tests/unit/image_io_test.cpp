@@ -198,6 +198,78 @@ TEST_F(ImageIoTest, AnExrWhoseDataWindowWouldNeedGigabytesToOpenIsRefusedFirst) 
     }
 }
 
+/// readImageHeader's error for `bytes` as an .exr; "" when it reads them.
+std::string headerError(const std::vector<uint8_t>& bytes) {
+    try {
+        readImageHeader(bytes, "sky.exr");
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return {};
+}
+
+// Found by tests/fuzz/fuzz_environment_image (with -malloc_limit_mb): OpenEXR 3.1 reads a value
+// of a type it knows at the type's own size, whatever the attribute's size field says, and
+// reads the header on from there; a walk that skipped by the size field did not see a data
+// window OpenEXR then opened (32 MiB and 846 MB allocated for files of 469 and 561 bytes).
+TEST_F(ImageIoTest, AnExrHeaderIsReadAsOpenExrReadsIt) {
+    auto start = [] { return std::vector<uint8_t>{0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0}; };
+    auto channels = [](std::vector<uint8_t>& b) {
+        std::vector<uint8_t> channel = {'Y', 0};
+        for (uint8_t x : le32({2, 0, 1, 1})) channel.push_back(x);  // float, pLinear 0, 1 x 1
+        channel.push_back(0);
+        exrAttribute(b, "channels", "chlist", channel);
+    };
+    std::vector<uint8_t> wide;  // a data window 268 million pixels wide, as attribute bytes
+    exrAttribute(wide, "dataWindow", "box2i", le32({0, 0, (1 << 28) - 1, 0}));
+
+    // A compression whose size field also covers the data window after its one byte.
+    std::vector<uint8_t> b = start();
+    channels(b);
+    std::vector<uint8_t> compression = {0};  // NO_COMPRESSION
+    compression.insert(compression.end(), wide.begin(), wide.end());
+    exrAttribute(b, "compression", "compression", compression);
+    b.push_back(0);
+    EXPECT_NE(headerError(b).find("data window"), std::string::npos) << headerError(b);
+
+    // A channel list whose size field is short of the list: OpenEXR reads to its empty name.
+    b = start();
+    std::vector<uint8_t> list = {'Y', 0};
+    for (uint8_t x : le32({2, 0, 1, 1})) list.push_back(x);
+    list.push_back(0);
+    std::vector<uint8_t> shortList(list.begin(), list.begin() + 1);  // size field: 1
+    exrAttribute(b, "channels", "chlist", shortList);
+    b.insert(b.end(), list.begin() + 1, list.end());
+    b.insert(b.end(), wide.begin(), wide.end());
+    exrAttribute(b, "compression", "compression", {0});
+    b.push_back(0);
+    EXPECT_NE(headerError(b).find("data window"), std::string::npos) << headerError(b);
+
+    // A header cut short after its data window: OpenEXR gets as far as opening it.
+    b = start();
+    channels(b);
+    b.insert(b.end(), wide.begin(), wide.end());
+    b.push_back('x');  // a name that never ends
+    EXPECT_NE(headerError(b).find("data window"), std::string::npos) << headerError(b);
+
+    // A preview image OpenEXR would allocate before reading (40000 x 40000 x 4 bytes).
+    b = start();
+    channels(b);
+    exrAttribute(b, "preview", "preview", le32({40000, 40000}));
+    b.push_back(0);
+    EXPECT_NE(headerError(b).find("preview image"), std::string::npos) << headerError(b);
+
+    // Tiles of one pixel over a window of 2^28 pixels: a tile offset table of 2 GiB.
+    b = start();
+    channels(b);
+    exrAttribute(b, "dataWindow", "box2i", le32({0, 0, (1 << 14) - 1, (1 << 14) - 1}));
+    std::vector<uint8_t> tiles = le32({1, 1});
+    tiles.push_back(0);  // ONE_LEVEL
+    exrAttribute(b, "tiles", "tiledesc", tiles);
+    b.push_back(0);
+    EXPECT_NE(headerError(b).find("data window"), std::string::npos) << headerError(b);
+}
+
 TEST_F(ImageIoTest, OnlyTheReaderOfTheExtensionParsesAnImage) {
     // An uploaded image is untrusted: a file named .exr that is not EXR must not reach every
     // other format reader OpenImageIO has (its default), only be refused.
