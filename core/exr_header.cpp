@@ -77,7 +77,7 @@ class HeaderWalk {
         return false;
     }
 
-    /// What opening a scanline file makes OpenEXR allocate, from one header's attributes.
+    /// What opening the file makes OpenEXR allocate, from one header's attributes.
     struct Layout {
         int64_t width = 0, height = 0;
         uint64_t bytesPerPixel = 0;
