@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -49,7 +50,7 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
     double uploadMb = double(o.limits.maxUploadBytes) / (1 << 20);
     double rawPreviewMb = double(o.limits.maxRawPreviewBytes) / (1 << 20);
     double messageMb = double(o.limits.maxMessageBytes) / (1 << 20);
-    double receiveMb = double(o.limits.maxReceiveBytes) / (1 << 20);
+    double receiveMb = -1;  // -1: the default, at least twice the message limit (below)
     double uploadTtlMinutes = o.limits.uploadTtlSeconds / 60;
     double jobMemoryMb = -1, totalMemoryMb = -1,
            storeMb = -1;  // -1: the defaults finalizeServerOptions computes
@@ -93,10 +94,10 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         ->capture_default_str();
     app.add_option("--max-receive-mb", receiveMb,
                    "memory gRPC may hold for requests being received, all connections "
-                   "together, MiB (at least twice --max-message-mb): beyond it, streams are "
-                   "reset with RESOURCE_EXHAUSTED, also a request larger than --max-message-mb "
-                   "that gRPC would otherwise receive whole before refusing it")
-        ->capture_default_str();
+                   "together, MiB (at least twice --max-message-mb; default 256, or twice "
+                   "--max-message-mb if more): beyond it, streams are reset with "
+                   "RESOURCE_EXHAUSTED, also a request larger than --max-message-mb that gRPC "
+                   "would otherwise receive whole before refusing it");
     app.add_option("--max-upload-streams", o.limits.maxUploadStreams,
                    "most UploadScene streams in flight at once")
         ->capture_default_str();
@@ -163,6 +164,8 @@ int parseServerOptions(int argc, char** argv, ServerOptions& o) {
         return 2;
     }
     o.limits.maxMessageBytes = int64_t(messageMb * (1 << 20));
+    if (receiveMb == -1)
+        receiveMb = std::max(double(o.limits.maxReceiveBytes) / (1 << 20), 2 * messageMb);
     if (!(receiveMb >= 2 * messageMb) || receiveMb > 65536) {
         std::fprintf(stderr,
                      "partitad: --max-receive-mb must be in [2 x --max-message-mb, 65536]\n");

@@ -369,6 +369,12 @@ TEST(UploadScene, OversizedRequestsCostTheDaemonAtMostItsReceiveQuota) {
 
 TEST(UploadScene, AReceiveQuotaBelowTwoMessagesIsRefusedAtStart) {
     TempDir store;
+    {
+        // Not given, the quota follows a raised message limit (twice it) instead of refusing.
+        Daemon daemon(store.path() / "raised", {"--max-message-mb", "200"});
+        ASSERT_TRUE(daemon.running());
+        EXPECT_EQ(serverInfo(*daemon.stub()).limits().max_receive_bytes(), int64_t(400) << 20);
+    }
     auto [code, log] = runPartitad({"--listen", "127.0.0.1:0", "--store", store.path().string(),
                                     "--max-message-mb", "4", "--max-receive-mb", "7"});
     EXPECT_EQ(code, 2) << log;
