@@ -235,6 +235,13 @@ struct alignas(64) Film::Tile {
             }
     }
 
+    /// Adds t's unscaled sums, t a buffer of the tile at r, into dst's pixels.
+    static void addSums(const TypeBuffer& t, const TileRect& r, Image& dst) {
+        forEachSum(t, r.w, r.h, [&](int i, const FixedRgb& v) {
+            dst.add(r.x0 + i % kTileSize, r.y0 + i / kTileSize, v.rgb());
+        });
+    }
+
     void clear(Pools& pools) {
         combined.fill(FixedRgb{});
         types.clear();
@@ -468,17 +475,19 @@ Film::TileRect Film::tileRect(size_t ti) const {
     return {x0, y0, std::min(kTileSize, width_ - x0), std::min(kTileSize, height_ - y0)};
 }
 
+void Film::scaleTileRect(const TileRect& r, float scale, Image& dst) const {
+    for (int y = r.y0; y < r.y0 + r.h; ++y) {
+        float* row = &dst.rgb[(size_t(y) * size_t(width_) + size_t(r.x0)) * 3];
+        for (int k = 0; k < r.w * 3; ++k) row[k] *= scale;
+    }
+}
+
 Image Film::resolveType(PathType type, float scale) const {
     Image img(width_, height_);
     for (size_t ti = 0; ti < tiles_.size(); ++ti) {
         const TileRect r = tileRect(ti);
-        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
-        for (const auto& t : tiles_[ti]->types) {
-            if (t.type != type) continue;
-            Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
-                img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
-            });
-        }
+        for (const auto& t : tiles_[ti]->types)
+            if (t.type == type) Tile::addSums(t, r, img);
     }
     // Summed, then scaled, as resolve() does it: the same operations per pixel.
     for (float& v : img.rgb) v *= scale;
@@ -545,16 +554,10 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
     forEachIndex(pool, tiles_.size(), [&](size_t ti) {
         const Tile& tile = *tiles_[ti];
         const TileRect r = tileRect(ti);
-        const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                out.combined.set(x0 + x, y0 + y,
+        for (int y = 0; y < r.h; ++y)
+            for (int x = 0; x < r.w; ++x)
+                out.combined.set(r.x0 + x, r.y0 + y,
                                  tile.combined[size_t(y * kTileSize + x)].rgb() * scale);
-        auto addBuffer = [&](const Tile::TypeBuffer& t, Image& dst) {
-            Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
-                dst.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
-            });
-        };
         // Visit the tile's types in PathType order so that "other" sums in a fixed order, the
         // types the film does not keep last.
         std::vector<const Tile::TypeBuffer*> sorted;
@@ -562,13 +565,9 @@ LayeredImage Film::resolve(float scale, int maxTypeLayers, ThreadPool* pool) con
         for (const auto& t : tile.types) sorted.push_back(&t);
         std::sort(sorted.begin(), sorted.end(),
                   [](const auto* a, const auto* b) { return a->type < b->type; });
-        for (const auto* t : sorted) addBuffer(*t, layers[layerOf.at(t->type)]);
-        if (hasOther) addBuffer(tile.other, layers[keep]);
-        for (auto& img : layers)
-            for (int y = y0; y < y0 + h; ++y) {
-                float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
-                for (int k = 0; k < w * 3; ++k) row[k] *= scale;
-            }
+        for (const auto* t : sorted) Tile::addSums(*t, r, layers[layerOf.at(t->type)]);
+        if (hasOther) Tile::addSums(tile.other, r, layers[keep]);
+        for (auto& img : layers) scaleTileRect(r, scale, img);
     });
 
     out.layers.reserve(layers.size());
@@ -620,22 +619,13 @@ LayeredImage Film::takeResolved(float scale, int maxTypeLayers, ThreadPool* pool
         forEachIndex(pool, tiles_.size(), [&](size_t ti) {
             const Tile& tile = *tiles_[ti];
             const TileRect r = tileRect(ti);
-            const int x0 = r.x0, y0 = r.y0, w = r.w, h = r.h;
-            auto addBuffer = [&](const Tile::TypeBuffer& t) {
-                Tile::forEachSum(t, w, h, [&](int i, const FixedRgb& v) {
-                    img.add(x0 + i % kTileSize, y0 + i / kTileSize, v.rgb());
-                });
-            };
             const auto& list = byLayer[ti];
             auto first = std::lower_bound(list.begin(), list.end(), layer,
                                           [](const auto& e, size_t l) { return e.first < l; });
             for (auto it = first; it != list.end() && it->first == layer; ++it)
-                addBuffer(*it->second);
-            if (layer == order.keep) addBuffer(tile.other);
-            for (int y = y0; y < y0 + h; ++y) {
-                float* row = &img.rgb[(size_t(y) * size_t(width_) + size_t(x0)) * 3];
-                for (int k = 0; k < w * 3; ++k) row[k] *= scale;
-            }
+                Tile::addSums(*it->second, r, img);
+            if (layer == order.keep) Tile::addSums(tile.other, r, img);
+            scaleTileRect(r, scale, img);
         });
         out.layers.push_back({order.name(layer), std::move(img)});
         releaseLayer(order, layer);

@@ -154,6 +154,8 @@ class Film {
         int x0, y0, w, h;
     };
     TileRect tileRect(size_t ti) const;
+    /// Multiplies dst's pixels inside r by scale.
+    void scaleTileRect(const TileRect& r, float scale, Image& dst) const;
     /// Frees the blocks of the types of `layer` (takeResolved).
     void releaseLayer(const LayerOrder& order, size_t layer);
     /// One tile's part of serialize(), and its reading back into an empty tile.
