@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "guide/offsets.h"
@@ -23,21 +24,32 @@ struct CandidateWeights {
     double sum = 0;
 };
 
-/// Fills `out` with S'(p + delta_k) for every k: sPrime(x, y) for pixels on the width x height
-/// image, 0 off it. The plain form, for any weight function (the exact transition-matrix test's
-/// grids); the guided move uses ImageGuide::candidates, the same for the G-buffer's S'.
-template <typename SPrime>
-void gatherCandidates(const std::vector<PixelOffset>& delta, int px, int py, int width, int height,
+/// Fills `out` with S'(p + delta_k) for k < count, delta_k = offsetAt(k) (a PixelOffset):
+/// sPrime(x, y) for pixels on the width x height image, 0 off it. The plain form, for any weight
+/// function and offset storage (the exact transition-matrix test's grids, the portable build);
+/// with AVX2 the guided move uses ImageGuide::candidates, the same for the G-buffer's S'.
+template <typename OffsetAt, typename SPrime>
+void gatherCandidates(size_t count, OffsetAt&& offsetAt, int px, int py, int width, int height,
                       SPrime&& sPrime, CandidateWeights& out) {
-    out.weights.resize(delta.size());
+    out.weights.resize(count);
     out.sum = 0;
-    for (size_t k = 0; k < delta.size(); ++k) {
-        int x = px + delta[k].dx, y = py + delta[k].dy;
+    for (size_t k = 0; k < count; ++k) {
+        const PixelOffset delta = offsetAt(k);
+        int x = px + delta.dx, y = py + delta.dy;
         bool onImage = x >= 0 && y >= 0 && x < width && y < height;
         float w = onImage ? float(sPrime(x, y)) : 0.0f;
         out.weights[k] = w;
         out.sum += double(w);
     }
+}
+
+/// gatherCandidates over the offsets of Delta.
+template <typename SPrime>
+void gatherCandidates(const std::vector<PixelOffset>& delta, int px, int py, int width, int height,
+                      SPrime&& sPrime, CandidateWeights& out) {
+    gatherCandidates(
+        delta.size(), [&](size_t k) { return delta[k]; }, px, py, width, height,
+        std::forward<SPrime>(sPrime), out);
 }
 
 /// The index k chosen with probability w_k / sum, from u in [0, 1); -1 when the sum is 0.

@@ -153,15 +153,12 @@ void ImageGuide::candidates(const OffsetLanes& offsets, int px, int py, const Pa
 
 void ImageGuide::candidates(const OffsetLanes& offsets, int px, int py, const PathVertex& anchor,
                             CandidateWeights& out) const {
-    out.weights.resize(offsets.count);
-    out.sum = 0;
-    for (size_t k = 0; k < offsets.count; ++k) {
-        int x = px + offsets.dx[k], y = py + offsets.dy[k];
-        bool onImage = x >= 0 && y >= 0 && x < width() && y < height();
-        float w = onImage ? sPrime(x, y, anchor) : 0.0f;
-        out.weights[k] = w;
-        out.sum += double(w);
-    }
+    gatherCandidates(
+        offsets.count,
+        [&](size_t k) {
+            return PixelOffset{offsets.dx[k], offsets.dy[k]};
+        },
+        px, py, width(), height(), [&](int x, int y) { return sPrime(x, y, anchor); }, out);
 }
 
 #endif
