@@ -235,17 +235,21 @@ uint64_t ChainRunner::mutationsDone(int group) const {
 }
 
 std::vector<std::pair<std::string, MutationStats>> ChainRunner::mutationStats(int group) const {
+    // By name, in the order first seen: chains of different groups may have different sets
+    // (guided's partitions keep the guided or the lens perturbation).
     std::vector<std::pair<std::string, MutationStats>> out;
     for (const auto& c : chains_) {
         if (group >= 0 && c->plan.group != uint32_t(group)) continue;
         const auto& stats = c->markov.stats();
-        if (out.empty())
-            for (const WeightedMutation& m : c->mutations.weighted)
-                out.push_back({m.mutation->name(), {}});
-        for (size_t i = 0; i < stats.size() && i < out.size(); ++i) {
-            out[i].second.proposed += stats[i].proposed;
-            out[i].second.accepted += stats[i].accepted;
-            out[i].second.acceptance += stats[i].acceptance;
+        for (size_t i = 0; i < stats.size() && i < c->mutations.weighted.size(); ++i) {
+            const std::string name = c->mutations.weighted[i].mutation->name();
+            auto entry = std::find_if(out.begin(), out.end(),
+                                      [&](const auto& e) { return e.first == name; });
+            if (entry == out.end())
+                entry = out.insert(out.end(), std::make_pair(name, MutationStats{}));
+            entry->second.proposed += stats[i].proposed;
+            entry->second.accepted += stats[i].accepted;
+            entry->second.acceptance += stats[i].acceptance;
         }
     }
     return out;
