@@ -58,38 +58,41 @@ double halvesVariance(const ChainRunner& runner) {
     return sum / (1.0 / double(ma) + 1.0 / double(mb));
 }
 
-/// The chains' pilot: v_g and c_g of every partition into `out`. One partition at a time, each
-/// with the same share of the pilot (each one's error is measured alike) and its share of the
-/// chains: two films (its halves) alive at once, not two per partition (at 1280x720, 24 films
-/// of 22 MB).
-void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
-                const PrepassResult& prepass, const std::vector<Partition>& partitions,
-                const ChainRunner::MutationFactory& mutations,
-                const ChainRunner::RestrictionFactory& restrictions,
-                const PartitionPipelineSettings& s, double secondsLeft, EffortMeasurement& out) {
+/// The chains' pilot of one move: v_g and c_g of every partition with chains (-1 and 0 for the
+/// others), its rays and mutations. One partition at a time, each with the same share of the
+/// pilot (each one's error is measured alike) and its share of the chains: two films (its
+/// halves) alive at once, not two per partition (at 1280x720, 24 films of 22 MB). `fraction`
+/// of the pilot's budget: the moves share it.
+ChainPilot chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
+                      const PrepassResult& prepass, const std::vector<Partition>& partitions,
+                      const ChainRunner::MutationFactory& mutations,
+                      const ChainRunner::RestrictionFactory& restrictions,
+                      const PartitionPipelineSettings& s, double secondsLeft, double fraction) {
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
+    ChainPilot out;
+    out.variance.assign(partitions.size(), -1);
+    out.cost.assign(partitions.size(), 0);
     // The direct light is per pixel whatever the pilots say: no chains to measure.
     std::vector<size_t> measured;
     for (size_t g = 0; g < partitions.size(); ++g)
         if (!partitions[g].direct) measured.push_back(g);
-    if (measured.empty()) return;
+    if (measured.empty()) return out;
     const double pixels = double(rs.width) * rs.height;
-    const double pilotMpp = std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
+    const double pilotMpp = fraction * std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
     const uint64_t perPartition =
         timed ? (uint64_t(1) << 40)
               : std::max<uint64_t>(4 * s.minMutationsPerChain,
                                    uint64_t(pilotMpp * pixels / double(partitions.size())));
     PartitionPipelineSettings one = s;
     one.chains = std::max(2, s.chains / int(measured.size()));
-    const double seconds = timed ? std::max(1e-3, s.pilotShare * secondsLeft) : 0;
+    const double seconds = timed ? std::max(1e-3, fraction * s.pilotShare * secondsLeft) : 0;
     ProgressReporter progress(ctx.observer, "pilot", "mutations",
                               timed ? 0 : double(perPartition * measured.size()), seconds);
     // The chains' running time only, as when every partition's ran at once: not each
     // partition's plan and chain set-up (regenerating its starts).
     double chainSeconds = 0;
     std::vector<uint64_t> done(partitions.size(), 0), rays(partitions.size(), 0);
-    std::vector<double> variance(partitions.size(), -1);
     for (size_t g : measured) {
         const ChainPlan plan = pilotPlanOf(ctx, sampler, prepass, partitions, g, perPartition, one);
         ChainRunner runner(
@@ -98,31 +101,58 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
         const auto running = Clock::now();
         runner.run(progress, timed ? seconds / double(measured.size()) : 0);
         chainSeconds += secondsSince(running);
-        variance[g] = halvesVariance(runner);
+        out.variance[g] = halvesVariance(runner);
         done[g] = runner.mutationsDone();
         rays[g] = runner.rays();
         ctx.throwIfCancelled();
     }
     progress.flush();
-    uint64_t allRays = 0, allDone = 0;
     for (size_t g : measured) {
-        allRays += rays[g];
-        allDone += done[g];
+        out.rays += rays[g];
+        out.mutations += done[g];
     }
-    const double secondsPerRay = allRays > 0 ? chainSeconds / double(allRays) : 0;
+    const double secondsPerRay = out.rays > 0 ? chainSeconds / double(out.rays) : 0;
     const double unit = timed ? secondsPerRay : 1.0;  // a cost in seconds, or in rays
-    out.rays += allRays;
-    out.chainMutations = allDone;
-    out.mutationCost = allDone > 0 ? double(allRays) / double(allDone) * unit : 0;
+    out.mutationCost = out.mutations > 0 ? double(out.rays) / double(out.mutations) * unit : 0;
+    for (size_t g : measured)
+        out.cost[g] = done[g] > 0 ? double(rays[g]) / double(done[g]) * unit : out.mutationCost;
+    return out;
+}
+
+/// Each partition's move (the one of least v_g c_g; the first on a tie or where a pilot
+/// measured nothing) and its v_g and c_g into `out`; the mean cost of a pilot mutation.
+void chooseMoves(EffortMeasurement& out) {
+    const size_t n = out.partitions.size();
+    out.move.assign(n, 0);
+    uint64_t rays = 0, mutations = 0;
+    for (const ChainPilot& pilot : out.movePilots) {
+        rays += pilot.rays;
+        mutations += pilot.mutations;
+    }
+    out.chainMutations = mutations;
     double worst = 0;  // the largest measured v_g: for a partition whose halves did not both run
-    for (size_t g = 0; g < partitions.size(); ++g) {
+    for (size_t g = 0; g < n; ++g) {
+        for (size_t k = 1; k < out.movePilots.size(); ++k) {
+            const ChainPilot &best = out.movePilots[out.move[g]], &other = out.movePilots[k];
+            if (other.variance[g] >= 0 &&
+                (best.variance[g] < 0 ||
+                 other.variance[g] * other.cost[g] < best.variance[g] * best.cost[g]))
+                out.move[g] = uint8_t(k);
+        }
+        const ChainPilot& chosen = out.movePilots[out.move[g]];
         PartitionEffort& e = out.partitions[g];
-        e.chainVariance = variance[g];
+        e.chainVariance = chosen.variance[g];
+        e.mutationCost = chosen.cost[g] > 0 ? chosen.cost[g] : chosen.mutationCost;
         worst = std::max(worst, e.chainVariance);
-        e.mutationCost = done[g] > 0 ? double(rays[g]) / double(done[g]) * unit : out.mutationCost;
     }
     for (PartitionEffort& e : out.partitions)
         if (e.chainVariance < 0) e.chainVariance = worst > 0 ? worst : 1.0;
+    // The mean cost of a pilot mutation, over every move's (each in its pilot's units).
+    double weighted = 0;
+    for (const ChainPilot& pilot : out.movePilots)
+        weighted += pilot.mutationCost * double(pilot.mutations);
+    out.mutationCost = mutations > 0 ? weighted / double(mutations) : 0;
+    out.rays += rays;
 }
 
 }  // namespace
@@ -130,7 +160,7 @@ void chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
 EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
                                 const PrepassResult& prepass,
                                 const std::vector<Partition>& partitions,
-                                const ChainRunner::MutationFactory& mutations,
+                                const std::vector<ChainRunner::MutationFactory>& moves,
                                 const ChainRunner::RestrictionFactory& restrictions,
                                 const PartitionPipelineSettings& settings, EstimatorChoice choice,
                                 double secondsLeft) {
@@ -177,9 +207,15 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
         }
         progress.flush();
     }
-    if (choice != EstimatorChoice::PerPixel)
-        chainPilot(ctx, sampler, prepass, partitions, mutations, restrictions, settings,
-                   std::max(0.0, secondsLeft - secondsSince(begin)), out);
+    if (choice != EstimatorChoice::PerPixel && !moves.empty()) {
+        // The moves share the chains' pilot, each measured on the same partitions.
+        const double left = std::max(0.0, secondsLeft - secondsSince(begin));
+        for (const ChainRunner::MutationFactory& mutations : moves)
+            out.movePilots.push_back(chainPilot(ctx, sampler, prepass, partitions, mutations,
+                                                restrictions, settings, left,
+                                                1.0 / double(moves.size())));
+        chooseMoves(out);
+    }
     out.seconds = secondsSince(begin);
     return out;
 }

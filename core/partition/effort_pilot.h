@@ -36,11 +36,23 @@ struct PixelPilot {
     std::vector<double> varianceRgb;  // PerPixelPilot's
 };
 
+/// The chains' pilot of one move: per partition v_g and c_g (-1 and 0 where it ran no chains).
+struct ChainPilot {
+    std::vector<double> variance, cost;
+    double mutationCost = 0;  // the mean over its partitions
+    uint64_t rays = 0, mutations = 0;
+};
+
 struct EffortMeasurement {
     /// pixelVariance left 0: each per-pixel estimator's is in `pixelPilots`.
     std::vector<PartitionEffort> partitions;
     /// bdpt's, then the path tracer's where it applies (no delta light).
     std::vector<PixelPilot> pixelPilots;
+    /// The chains' pilot of each move (PartitionMutations::moves; one when there is nothing
+    /// to choose), and per partition the move chosen: the one of least v_g c_g, whose v_g and
+    /// c_g are in `partitions`.
+    std::vector<ChainPilot> movePilots;
+    std::vector<uint8_t> move;
     double mutationCost = 0;  // the mean cost of one pilot mutation over every partition
     double seconds = 0;       // both pilots
     uint64_t rays = 0;
@@ -50,11 +62,12 @@ struct EffortMeasurement {
 /// Runs the pilots `choice` needs (none of the per-pixel one for "chains", none of the chains'
 /// for "per-pixel"). A time budget's chains' pilot runs for `pilotShare` of `secondsLeft`; a
 /// mutation budget's for pilotShare of its mutations (at most 4 per pixel), spread evenly over
-/// the partitions. Phase "pilot"; cancellable.
+/// the partitions and, with several `moves` (a mutation factory each), over the moves.
+/// Phase "pilot"; cancellable.
 EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
                                 const PrepassResult& prepass,
                                 const std::vector<Partition>& partitions,
-                                const ChainRunner::MutationFactory& mutations,
+                                const std::vector<ChainRunner::MutationFactory>& moves,
                                 const ChainRunner::RestrictionFactory& restrictions,
                                 const PartitionPipelineSettings& settings, EstimatorChoice choice,
                                 double secondsLeft);

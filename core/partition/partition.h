@@ -37,6 +37,10 @@ struct Partition {
     /// The direct-light class is a partition of its own: this one holds none of its types
     /// (every partition of a set with a `direct` one; the complement too).
     bool directApart = false;
+    /// The chains' image-plane move: an index into the algorithm's alternatives
+    /// (PartitionMutations::moves, partitioned_pipeline.h), chosen by the chains' pilot; 0 when
+    /// there is nothing to choose.
+    uint8_t move = 0;
 
     /// Whether a path of type t belongs here (the chains' restriction).
     bool holds(const PathType& t) const;

@@ -131,7 +131,7 @@ ChainRunner::RestrictionFactory restrictionsOf(const std::vector<Partition>& par
 
 /// The pilots' measurements and the effort plan into the start's statistics.
 void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPlan& plan,
-                    double pixelCost) {
+                    double pixelCost, const std::vector<std::string>& moves) {
     st.values["pilot_seconds"] = m.seconds;
     st.values["pilot_rays"] = double(m.rays);
     st.values["pilot_mutations"] = double(m.chainMutations);
@@ -156,6 +156,14 @@ void addEffortStats(RenderStats& st, const EffortMeasurement& m, const EffortPla
         st.values[key + "pixel_variance"] = m.partitions[g].pixelVariance;
         st.values[key + "share"] = plan.perPixel[g] ? 0.0 : plan.chainShare[g];
         st.labels[key + "reason"] = plan.reason[g];
+        // With moves to choose from: each one's pilot and the choice (a partition the plan
+        // then gives per-pixel samples keeps it, unused; the direct light has no chains' pilot).
+        if (moves.size() < 2 || g >= m.move.size() || m.partitions[g].alwaysPerPixel) continue;
+        st.labels[key + "move"] = moves[m.move[g]];
+        for (size_t k = 0; k < moves.size() && k < m.movePilots.size(); ++k) {
+            st.values[key + "chain_variance_" + moves[k]] = m.movePilots[k].variance[g];
+            st.values[key + "mutation_cost_" + moves[k]] = m.movePilots[k].cost[g];
+        }
     }
 }
 
@@ -183,10 +191,18 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     if (partitions.empty() || !neyman)
         return allocateMutations(partitions, budget, settings.minMutationsPerChain);
 
-    const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, out.prepared);
+    // One mutation factory per move to choose from, each with that move for every partition.
+    std::vector<ChainRunner::MutationFactory> moves;
+    for (size_t k = 0; k < std::max<size_t>(1, mutations.moves().size()); ++k) {
+        std::vector<Partition> withMove = partitions;
+        for (Partition& p : withMove) p.move = uint8_t(k);
+        moves.push_back(mutations.factory(ctx, withMove, out.prepared));
+    }
     EffortMeasurement m =
-        measureEffort(ctx, sampler, prepass, partitions, factory, restrictionsOf(partitions),
+        measureEffort(ctx, sampler, prepass, partitions, moves, restrictionsOf(partitions),
                       settings, choice, timed ? rs.budget - secondsSince(start) : 0);
+    for (size_t g = 0; g < partitions.size() && g < m.move.size(); ++g)
+        partitions[g].move = m.move[g];
     // The plan with each per-pixel estimator piloted, the one of lower error x cost (none
     // piloted: chains only).
     EffortPlan plan = planEffort(m.partitions, 0, choice, true);
@@ -203,7 +219,7 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
             out.pixelVarianceRgb = pilot.varianceRgb;
         }
     }
-    addEffortStats(out.stats, m, plan, pixelCost);
+    addEffortStats(out.stats, m, plan, pixelCost, mutations.moves());
     out.stats.labels["per_pixel_estimator"] = perPixelEstimatorName(out.pixelEstimator);
     out.startupRays += m.rays;
     bool anyPixel = false;
@@ -318,6 +334,7 @@ void putPartition(ByteWriter& w, const Partition& p) {
     w.put(uint8_t(p.perPixel));
     w.put(uint8_t(p.direct));
     w.put(uint8_t(p.directApart));
+    w.put(p.move);
 }
 
 Partition getPartition(ByteReader& r) {
@@ -337,6 +354,7 @@ Partition getPartition(ByteReader& r) {
     p.perPixel = r.get<uint8_t>() != 0;
     p.direct = r.get<uint8_t>() != 0;
     p.directApart = r.get<uint8_t>() != 0;
+    p.move = r.get<uint8_t>();
     return p;
 }
 

@@ -36,10 +36,15 @@ class PartitionMutations {
         return {};
     }
     /// The mutation factory of the chains, from the partitions and prepare's bytes (in this
-    /// process or in a shard's); the same bytes must give the same mutations.
+    /// process or in a shard's); the same bytes must give the same mutations. Partition g's
+    /// chains use the move moves()[partitions[g].move].
     virtual ChainRunner::MutationFactory factory(const RenderContext& ctx,
                                                  const std::vector<Partition>& partitions,
                                                  std::span<const uint8_t> prepared) = 0;
+    /// The image-plane moves the chains' pilot chooses from per partition (the one of lower
+    /// measured error per cost; the first on a tie or without a pilot), by name for the
+    /// statistics. One (or none): nothing to choose.
+    virtual std::vector<std::string> moves() const { return {}; }
 };
 
 /// Veach's mutation settings for the chains of `partition`: those of a one-type partition try

@@ -13,8 +13,8 @@ namespace {
 
 constexpr uint32_t kPlanMagic = 0x4e4c5050;    // "PPLN"
 constexpr uint32_t kResultMagic = 0x44485350;  // "PSHD"
-constexpr uint32_t kPlanVersion = 4;    // 2: settings as named parameters; 3: partition patterns;
-                                        // 4: the direct-light partition
+constexpr uint32_t kPlanVersion = 5;    // 2: settings as named parameters; 3: partition patterns;
+                                        // 4: the direct-light partition; 5: each one's move
 constexpr uint32_t kResultVersion = 3;  // 2: films compressed (zlib); 3: with zstd (compression.h)
 
 // The plan's settings: the budget, then every declared parameter of the job (shared and the

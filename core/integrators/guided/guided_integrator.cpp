@@ -1,6 +1,8 @@
 #include "integrators/guided/guided_integrator.h"
 
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "clock.h"
 #include "guide/denoise.h"
@@ -82,7 +84,9 @@ std::vector<uint8_t> GuidedMutations::prepare(const RenderContext& ctx,
 ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
                                                       const std::vector<Partition>& partitions,
                                                       std::span<const uint8_t> prepared) {
-    std::shared_ptr<Guides> guides = std::move(prepared_);
+    // prepare()'s guides serve every factory of this job (the pilot's, one per move, and the
+    // chains'): an algorithm object renders one job (algorithm.h).
+    std::shared_ptr<Guides> guides = prepared_;
     if (!guides) {  // a shard: the masks from the plan, the G-buffer traced again
         guides = std::make_shared<Guides>();
         guides->masks = SupportMasks::deserialize(prepared);
@@ -92,15 +96,28 @@ ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
             throw std::invalid_argument("guided plan: the support masks do not fit the job");
         guides->gbuffer = buildGBuffer(ctx);
         guides->link(settings_, partitions.size());
+        prepared_ = guides;
     }
-    return [this, &ctx, guides, partitions](uint32_t group) {
-        VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partitions[group]);
+    const std::vector<std::string> moves = this->moves();
+    return [this, &ctx, guides, partitions, moves](uint32_t group) {
+        const Partition& partition = partitions[group];
+        VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partition);
+        if (partition.move >= moves.size())
+            throw std::invalid_argument("guided: a partition's move is not one of " +
+                                        std::to_string(moves.size()));
+        if (moves[partition.move] == "lens")  // partitioned's mutations for this partition
+            return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
         auto guided =
             std::make_unique<GuidedPerturbation>(ctx.scene, ctx.camera, guides->perPartition[group],
                                                  guides->delta, lensPixelRange(ctx.camera, m));
         return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m,
                                   std::move(guided));
     };
+}
+
+std::vector<std::string> GuidedMutations::moves() const {
+    if (settings_.move == "auto") return {"guided", "lens"};
+    return {settings_.move};
 }
 
 GuidedAlgorithm::GuidedAlgorithm(GuidedSettings settings)

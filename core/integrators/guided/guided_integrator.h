@@ -30,6 +30,8 @@ class GuidedMutations : public PartitionMutations {
     ChainRunner::MutationFactory factory(const RenderContext& ctx,
                                          const std::vector<Partition>& partitions,
                                          std::span<const uint8_t> prepared) override;
+    /// settings.move: "guided" or "lens" alone, or both for the pilot to choose ("auto").
+    std::vector<std::string> moves() const override;
 
   private:
     const GuidedSettings& settings_;

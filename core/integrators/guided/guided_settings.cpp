@@ -23,6 +23,12 @@ const SettingsTable<GuidedSettings>& guidedParameters() {
                 .above(0)
                 .atMost(1),
             &GuidedSettings::epsilon);
+        t.add(ParameterSpec("move",
+                            "each partition's image-plane move: guided (the paper's), lens (the "
+                            "lens perturbation, as partitioned) or auto (the chains' pilot runs "
+                            "both, each partition keeps the one of less error per cost)")
+                  .withChoices({"auto", "guided", "lens"}),
+              &GuidedSettings::move);
         return t;
     }();
     return table;

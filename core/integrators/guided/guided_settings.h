@@ -3,6 +3,8 @@
 // radius, epsilon).
 #pragma once
 
+#include <string>
+
 #include "guide/denoise.h"
 #include "mcmc/veach_mutations.h"
 #include "params/settings_table.h"
@@ -28,6 +30,12 @@ struct GuidedSettings : PartitionPipelineSettings {
     VeachMutationSettings mutations;
     /// The per-partition denoiser of the pre-pass images that V' thresholds (Eq. 17).
     DenoiseSettings denoise;
+    /// Each partition's image-plane move: "guided" (the paper's, Sec. 5.1), "lens" (the lens
+    /// perturbation, as partitioned's chains) or "auto": the chains' pilot runs both and each
+    /// partition keeps the one of less measured error per cost (per mutation for a mutation
+    /// budget, per second for a time budget; issue #23 item 6). Without a chains' pilot
+    /// (estimators=chains with allocation=p, the paper's method) auto is "guided".
+    std::string move = "auto";
 };
 
 const SettingsTable<GuidedSettings>& guidedParameters();

@@ -50,6 +50,50 @@ TEST(Guided, TheGuidedPerturbationReplacesTheLensPerturbation) {
     }
 }
 
+TEST(Guided, TheLensMoveRendersPartitionedsImage) {
+    // move=lens gives every partition partitioned's mutations: the same chains, bit for bit.
+    RenderScene scene = loadScene("door-ajar");
+    RenderSettings st = tinySettings(8, 5, BudgetKind::MutationsPerPixel);
+    st.parameters.set("estimators", std::string("chains"));
+    RenderResult partitioned = test::renderWith(scene, "partitioned", st);
+    st.parameters.set("move", std::string("lens"));
+    RenderResult lens = test::renderWith(scene, "guided", st);
+    EXPECT_EQ(lens.stats.values.count("proposed_guided"), 0u);
+    EXPECT_GT(lens.stats.values["proposed_lens"], 0);
+    ASSERT_EQ(lens.image.combined.rgb.size(), partitioned.image.combined.rgb.size());
+    EXPECT_TRUE(lens.image.combined.rgb == partitioned.image.combined.rgb);
+}
+
+TEST(Guided, AutoKeepsEachPartitionsMoveOfLessErrorPerCost) {
+    // The chains' pilot runs both moves on every partition (allocation=neyman runs it with
+    // chains alone) and each partition keeps the one of least v_g c_g (issue #23 item 6).
+    RenderScene scene = loadScene("door-ajar");
+    RenderSettings st = tinySettings(16, 7, BudgetKind::MutationsPerPixel);
+    st.parameters.set("estimators", std::string("chains")).set("allocation", std::string("neyman"));
+    RenderResult r = test::renderWith(scene, "guided", st);
+    const int partitions = int(r.stats.values["partitions"]);
+    ASSERT_GE(partitions, 3);
+    int guided = 0, lens = 0;
+    for (int g = 0; g < partitions; ++g) {
+        const std::string key = "partition_" + std::to_string(g) + "_";
+        ASSERT_EQ(r.stats.labels.count(key + "move"), 1u) << g;
+        auto errorPerCost = [&](const std::string& move) {
+            return r.stats.values.at(key + "chain_variance_" + move) *
+                   r.stats.values.at(key + "mutation_cost_" + move);
+        };
+        const std::string expected =
+            errorPerCost("lens") < errorPerCost("guided") ? "lens" : "guided";
+        EXPECT_EQ(r.stats.labels[key + "move"], expected) << g;
+        EXPECT_EQ(r.stats.values[key + "chain_variance"],
+                  r.stats.values[key + "chain_variance_" + expected])
+            << g;
+        (expected == "lens" ? lens : guided) += 1;
+    }
+    // The chains use the kept moves: each one proposed exactly where some partition kept it.
+    EXPECT_EQ(r.stats.values["proposed_guided"] > 0, guided > 0);
+    EXPECT_EQ(r.stats.values["proposed_lens"] > 0, lens > 0);
+}
+
 TEST(Guided, BadGuideParametersAreClearErrors) {
     RenderSettings st = tinySettings(4, 1, BudgetKind::MutationsPerPixel);
     const AlgorithmRegistry::Entry& guided = registeredAlgorithm("guided");
