@@ -21,14 +21,15 @@ bool pixelOf(Vec2f r, int width, int height, int& x, int& y) {
 GuidedPerturbation::GuidedPerturbation(const RenderScene& scene, const Camera& camera,
                                        const ImageGuide& guide,
                                        const std::vector<PixelOffset>& delta,
-                                       PerturbationRange lensPixels)
+                                       PerturbationRange lensPixels, bool throughSpecular)
     : scene_(scene),
       camera_(camera),
       guide_(guide),
       delta_(delta),
       lanes_(delta),
       opposite_(oppositeOffsets(delta)),
-      lens_(scene, camera, lensPixels) {}
+      lens_(scene, camera, lensPixels),
+      throughSpecular_(throughSpecular) {}
 
 const CandidateWeights& GuidedPerturbation::candidatesAt(int x, int y, const PathVertex& anchor) {
     for (int i = 0; i < 2; ++i) {
@@ -54,7 +55,9 @@ bool GuidedPerturbation::propose(const MarkovPath& x, Rng& rng, MarkovPath& y,
                                  double& reverseOverForward, uint64_t& rays) {
     lastSumRatio_ = 1;
     int n = x.size(), s = firstNonDirac(x, 1);
-    if (s == n - 1) return lens_.propose(x, rng, y, reverseOverForward, rays);
+    // x_s the light (E S* L), or seen through a specular chain the guide may not follow.
+    if (s == n - 1 || (s > 1 && !throughSpecular_))
+        return lens_.propose(x, rng, y, reverseOverForward, rays);
     const PathVertex& anchor = x[s + 1];
     int px, py;
     if (!pixelOf(x.raster, guide_.width(), guide_.height(), px, py)) return false;

@@ -15,10 +15,16 @@
 //
 // It replaces the lens perturbation: it applies where the lens perturbation does, and a path
 // whose first non-Dirac vertex is its light (E S* L: no fixed vertex to connect to) falls back
-// to the lens perturbation; both keep the path's structure, so the choice is the same from
-// either end of a move. A current raster position outside the image's pixels (the importance
-// support reaches half a pixel beyond them) cannot be proposed by the guided move, so it is
-// never left by it either: a rejection.
+// to the lens perturbation. So does, unless `throughSpecular`, a path whose camera ray meets a
+// specular surface before x_s (E S+ D ...): the G-buffer follows the more probable Dirac branch
+// (gbuffer.h), so S' describes another surface than x_s wherever the path takes the other branch
+// (a reflection in glass), and the chains' pilot measured the guided move 1.2-2.9x worse per
+// mutation than the lens perturbation on such types (docs/partition-estimators.md, "Where the
+// guided move pays"). Both moves keep the path's structure (s, the branches followed), so each
+// choice is the same from either end of a move: the kernel is a mixture over classes the moves
+// never leave, each class with one exact kernel. A current raster position outside the image's
+// pixels (the importance support reaches half a pixel beyond them) cannot be proposed by the guided
+// move, so it is never left by it either: a rejection.
 //
 // The candidate sums are the costly part (|Y'| G-buffer reads each): the sums of the last two
 // pixels are kept with their anchor, so a rejected proposal (the chain stays) or an accepted one
@@ -38,9 +44,11 @@ namespace partita {
 class GuidedPerturbation : public Mutation {
   public:
     /// `guide` (the chain's partition) and `delta` outlive the mutation; `lensPixels` are the
-    /// fallback lens perturbation's offset sizes.
+    /// fallback lens perturbation's offset sizes; `throughSpecular`: the guided move also for
+    /// paths E S+ D ... (the paper's), else the lens perturbation for them (above).
     GuidedPerturbation(const RenderScene& scene, const Camera& camera, const ImageGuide& guide,
-                       const std::vector<PixelOffset>& delta, PerturbationRange lensPixels);
+                       const std::vector<PixelOffset>& delta, PerturbationRange lensPixels,
+                       bool throughSpecular);
 
     std::string name() const override { return "guided"; }
     bool appliesTo(const MarkovPath& x) const override { return lens_.appliesTo(x); }
@@ -70,6 +78,7 @@ class GuidedPerturbation : public Mutation {
     OffsetLanes lanes_;          // delta_ for the candidate sums' vector loop
     std::vector<int> opposite_;  // the offset back from p + delta_k to p, for each k
     LensPerturbation lens_;
+    bool throughSpecular_;
     CachedCandidates cache_[2];
     int older_ = 0;  // the least recently used slot
     double lastSumRatio_ = 1;

@@ -290,7 +290,7 @@ class ClientTest(unittest.TestCase):
                           "estimators", "pixel_estimator", "allocation", "direct", "pilot_share",
                           "target_error",
                           "large_step_rate", "y",
-                          "radius", "epsilon", "move"])
+                          "radius", "epsilon", "move", "through_specular"])
         self.assertEqual([p.name for p in algorithms["pt"].own_parameters()], ["target_error"])
 
     def test_submit_checks_parameter_names_before_sending(self):

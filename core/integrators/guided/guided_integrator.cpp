@@ -107,9 +107,9 @@ ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
                                         std::to_string(moves.size()));
         if (moves[partition.move] == "lens")  // partitioned's mutations for this partition
             return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
-        auto guided =
-            std::make_unique<GuidedPerturbation>(ctx.scene, ctx.camera, guides->perPartition[group],
-                                                 guides->delta, lensPixelRange(ctx.camera, m));
+        auto guided = std::make_unique<GuidedPerturbation>(
+            ctx.scene, ctx.camera, guides->perPartition[group], guides->delta,
+            lensPixelRange(ctx.camera, m), settings_.throughSpecular);
         return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m,
                                   std::move(guided));
     };

@@ -29,6 +29,12 @@ const SettingsTable<GuidedSettings>& guidedParameters() {
                             "both, each partition keeps the one of less error per cost)")
                   .withChoices({"auto", "guided", "lens"}),
               &GuidedSettings::move);
+        t.add(ParameterSpec("through_specular",
+                            "the guided move also for paths whose camera ray meets specular "
+                            "surfaces before their first non-specular vertex (the paper's); "
+                            "false: the lens perturbation for those, whose guide the G-buffer's "
+                            "one specular branch per pixel may not describe"),
+              &GuidedSettings::throughSpecular);
         return t;
     }();
     return table;

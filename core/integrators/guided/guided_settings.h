@@ -36,6 +36,10 @@ struct GuidedSettings : PartitionPipelineSettings {
     /// budget, per second for a time budget; issue #23 item 6). Without a chains' pilot
     /// (estimators=chains with allocation=p, the paper's method) auto is "guided".
     std::string move = "auto";
+    /// The guided move also for paths whose camera ray meets specular surfaces before their
+    /// first non-specular vertex (E S+ D ..., the paper's); false: the lens perturbation for
+    /// those (guided_perturbation.h).
+    bool throughSpecular = false;
 };
 
 const SettingsTable<GuidedSettings>& guidedParameters();

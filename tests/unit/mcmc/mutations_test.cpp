@@ -27,6 +27,7 @@
 #include "mcmc/lens_perturbation.h"
 #include "mcmc/markov_chain.h"
 #include "mcmc/multi_chain_perturbation.h"
+#include "mcmc/path_edits.h"
 #include "render_helpers.h"
 #include "renderer.h"
 #include "scene_builders.h"
@@ -294,12 +295,14 @@ TEST(Mutations, MultiChainPerturbationConvergesToBdptPerType) {
 /// ratio of candidate sums (the negative control).
 class GuidedWithOwnGuides : public Mutation {
   public:
-    GuidedWithOwnGuides(const SceneUnderTest& s, int candidates, float radius, bool forgetSums)
+    GuidedWithOwnGuides(const SceneUnderTest& s, int candidates, float radius, bool forgetSums,
+                        bool throughSpecular = true)
         : gbuffer_(gbufferOf(s)),
           masks_({checkerboard()}, kWidth, kHeight, 0.05f),
           guide_(gbuffer_, masks_, 0),
           delta_(guideOffsets(candidates, radius)),
-          guided_(s.scene, s.camera, guide_, delta_, PerturbationRange{0.1f, 1.6f}),
+          guided_(s.scene, s.camera, guide_, delta_, PerturbationRange{0.1f, 1.6f},
+                  throughSpecular),
           forgetSums_(forgetSums) {}
     std::string name() const override { return "guided"; }
     bool appliesTo(const MarkovPath& x) const override { return guided_.appliesTo(x); }
@@ -354,6 +357,44 @@ TEST(Mutations, GuidedPerturbationConvergesOnAGrazingFloor) {
         },
         10000);
     EXPECT_LT(c.worst, 1.0) << c.where;
+}
+
+TEST(Mutations, GuidedPerturbationLeavesPathsSeenThroughSpecularToTheLensPerturbation) {
+    // throughSpecular false: a path E S+ D ... gets exactly the lens perturbation's proposal
+    // (the same random numbers give the same path and ratio), a path E D ... the guided one.
+    // Both moves keep s, so the per-path choice is the same from either end of a move, and each
+    // class's kernel is exact on its own (the lens's and the guided's convergence tests).
+    SceneUnderTest s(shippedScene("cornell-glass"));
+    GuidedWithOwnGuides guided(s, 33, 5, false, /*throughSpecular=*/false);
+    LensPerturbation lens(s.scene, s.camera, PerturbationRange{0.1f, 1.6f});
+    IndependenceMutation independent(s.scene, s.camera, kMaxDepth);
+    Rng pathRng(5, 1);
+    int throughSpecular = 0, direct = 0, directDiffer = 0;
+    for (uint64_t i = 0; i < 20000 && (throughSpecular < 50 || direct < 50); ++i) {
+        MarkovPath x;
+        uint64_t rays = 0;
+        if (!independent.sample(pathRng, x, rays) || !lens.appliesTo(x)) continue;
+        const int first = firstNonDirac(x, 1);
+        if (first == x.size() - 1) continue;  // E S* L: the lens perturbation either way
+        Rng a(9, i), b(9, i);
+        MarkovPath yGuided, yLens;
+        double ratioGuided = 0, ratioLens = 0;
+        const bool guidedOk = guided.propose(x, a, yGuided, ratioGuided, rays);
+        const bool lensOk = lens.propose(x, b, yLens, ratioLens, rays);
+        const bool same = guidedOk == lensOk && (!guidedOk || (yGuided.raster.x == yLens.raster.x &&
+                                                               yGuided.raster.y == yLens.raster.y &&
+                                                               ratioGuided == ratioLens));
+        if (first > 1) {
+            ++throughSpecular;
+            EXPECT_TRUE(same) << "path " << i << ": s = " << first;
+        } else {
+            ++direct;
+            directDiffer += same ? 0 : 1;
+        }
+    }
+    EXPECT_GE(throughSpecular, 50);
+    EXPECT_GE(direct, 50);
+    EXPECT_GT(directDiffer, direct / 2) << "paths E D ... should get the guided move";
 }
 
 /// The comparison catches a guided perturbation without Eq. 16's candidate sums.
