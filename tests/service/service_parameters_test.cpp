@@ -47,6 +47,8 @@ const std::map<std::string, std::string>& cheapValues() {
         {"y", "16"},
         {"radius", "10"},
         {"epsilon", "0.5"},
+        {"move", "lens"},
+        {"through_specular", "true"},
     };
     return values;
 }
