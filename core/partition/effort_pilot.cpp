@@ -61,13 +61,12 @@ double halvesVariance(const ChainRunner& runner) {
 /// The chains' pilot of one move: v_g and c_g of every partition with chains (-1 and 0 for the
 /// others), its rays and mutations. One partition at a time, each with the same share of the
 /// pilot (each one's error is measured alike) and its share of the chains: two films (its
-/// halves) alive at once, not two per partition (at 1280x720, 24 films of 22 MB). `fraction`
-/// of the pilot's budget: the moves share it.
+/// halves) alive at once, not two per partition (at 1280x720, 24 films of 22 MB).
 ChainPilot chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
                       const PrepassResult& prepass, const std::vector<Partition>& partitions,
                       const ChainRunner::MutationFactory& mutations,
                       const ChainRunner::RestrictionFactory& restrictions,
-                      const PartitionPipelineSettings& s, double secondsLeft, double fraction) {
+                      const PartitionPipelineSettings& s, double secondsLeft) {
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
     ChainPilot out;
@@ -79,14 +78,14 @@ ChainPilot chainPilot(const RenderContext& ctx, const BootstrapSampler& sampler,
         if (!partitions[g].direct) measured.push_back(g);
     if (measured.empty()) return out;
     const double pixels = double(rs.width) * rs.height;
-    const double pilotMpp = fraction * std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
+    const double pilotMpp = std::min(s.pilotShare * rs.budget, kMaxPilotMpp);
     const uint64_t perPartition =
         timed ? (uint64_t(1) << 40)
               : std::max<uint64_t>(4 * s.minMutationsPerChain,
                                    uint64_t(pilotMpp * pixels / double(partitions.size())));
     PartitionPipelineSettings one = s;
     one.chains = std::max(2, s.chains / int(measured.size()));
-    const double seconds = timed ? std::max(1e-3, fraction * s.pilotShare * secondsLeft) : 0;
+    const double seconds = timed ? std::max(1e-3, s.pilotShare * secondsLeft) : 0;
     ProgressReporter progress(ctx.observer, "pilot", "mutations",
                               timed ? 0 : double(perPartition * measured.size()), seconds);
     // The chains' running time only, as when every partition's ran at once: not each
@@ -208,12 +207,13 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
         progress.flush();
     }
     if (choice != EstimatorChoice::PerPixel && !moves.empty()) {
-        // The moves share the chains' pilot, each measured on the same partitions.
+        // Each move gets a whole pilot on the same partitions: with half each, the allocation's
+        // v_g were noisier and guided lost 5-10% of RMSE at 10 s (docs/partition-estimators.md,
+        // "Where the guided move pays").
         const double left = std::max(0.0, secondsLeft - secondsSince(begin));
         for (const ChainRunner::MutationFactory& mutations : moves)
             out.movePilots.push_back(chainPilot(ctx, sampler, prepass, partitions, mutations,
-                                                restrictions, settings, left,
-                                                1.0 / double(moves.size())));
+                                                restrictions, settings, left));
         chooseMoves(out);
     }
     out.seconds = secondsSince(begin);

@@ -62,7 +62,7 @@ struct EffortMeasurement {
 /// Runs the pilots `choice` needs (none of the per-pixel one for "chains", none of the chains'
 /// for "per-pixel"). A time budget's chains' pilot runs for `pilotShare` of `secondsLeft`; a
 /// mutation budget's for pilotShare of its mutations (at most 4 per pixel), spread evenly over
-/// the partitions and, with several `moves` (a mutation factory each), over the moves.
+/// the partitions; with several `moves` (a mutation factory each) each move gets such a pilot.
 /// Phase "pilot"; cancellable.
 EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler& sampler,
                                 const PrepassResult& prepass,
