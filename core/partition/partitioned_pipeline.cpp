@@ -192,8 +192,9 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
         return allocateMutations(partitions, budget, settings.minMutationsPerChain);
 
     // One mutation factory per move to choose from, each with that move for every partition.
+    const std::vector<std::string> moveNames = mutations.moves();
     std::vector<ChainRunner::MutationFactory> moves;
-    for (size_t k = 0; k < std::max<size_t>(1, mutations.moves().size()); ++k) {
+    for (size_t k = 0; k < std::max<size_t>(1, moveNames.size()); ++k) {
         std::vector<Partition> withMove = partitions;
         for (Partition& p : withMove) p.move = uint8_t(k);
         moves.push_back(mutations.factory(ctx, withMove, out.prepared));
@@ -219,7 +220,7 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
             out.pixelVarianceRgb = pilot.varianceRgb;
         }
     }
-    addEffortStats(out.stats, m, plan, pixelCost, mutations.moves());
+    addEffortStats(out.stats, m, plan, pixelCost, moveNames);
     out.stats.labels["per_pixel_estimator"] = perPixelEstimatorName(out.pixelEstimator);
     out.startupRays += m.rays;
     bool anyPixel = false;

@@ -98,15 +98,18 @@ ChainRunner::MutationFactory GuidedMutations::factory(const RenderContext& ctx,
         guides->link(settings_, partitions.size());
         prepared_ = guides;
     }
+    // Each partition's move, checked once: the lens perturbation is partitioned's mutations.
     const std::vector<std::string> moves = this->moves();
-    return [this, &ctx, guides, partitions, moves](uint32_t group) {
-        const Partition& partition = partitions[group];
-        VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partition);
-        if (partition.move >= moves.size())
+    std::vector<bool> lens;
+    for (const Partition& p : partitions) {
+        if (p.move >= moves.size())
             throw std::invalid_argument("guided: a partition's move is not one of " +
                                         std::to_string(moves.size()));
-        if (moves[partition.move] == "lens")  // partitioned's mutations for this partition
-            return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
+        lens.push_back(moves[p.move] == "lens");
+    }
+    return [this, &ctx, guides, partitions, lens](uint32_t group) {
+        VeachMutationSettings m = partitionMutationSettings(settings_.mutations, partitions[group]);
+        if (lens[group]) return makeVeachMutations(ctx.scene, ctx.camera, ctx.settings.maxDepth, m);
         auto guided = std::make_unique<GuidedPerturbation>(
             ctx.scene, ctx.camera, guides->perPartition[group], guides->delta,
             lensPixelRange(ctx.camera, m), settings_.throughSpecular);
