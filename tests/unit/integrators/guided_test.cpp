@@ -89,7 +89,10 @@ TEST(Guided, AutoKeepsEachPartitionsMoveOfLessErrorPerCost) {
             << g;
         (expected == "lens" ? lens : guided) += 1;
     }
-    // The chains use the kept moves: each one proposed exactly where some partition kept it.
+    // The chains use the kept moves: each one proposed exactly where some partition kept it
+    // (this seed keeps both, so neither check holds by default).
+    ASSERT_GT(guided, 0);
+    ASSERT_GT(lens, 0);
     EXPECT_EQ(r.stats.values["proposed_guided"] > 0, guided > 0);
     EXPECT_EQ(r.stats.values["proposed_lens"] > 0, lens > 0);
 }
