@@ -214,11 +214,11 @@ std::string headerError(const std::vector<uint8_t>& bytes) {
 // window OpenEXR then opened (32 MiB and 846 MB allocated for files of 469 and 561 bytes).
 TEST_F(ImageIoTest, AnExrHeaderIsReadAsOpenExrReadsIt) {
     auto start = [] { return std::vector<uint8_t>{0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0}; };
-    auto channels = [](std::vector<uint8_t>& b) {
-        std::vector<uint8_t> channel = {'Y', 0};
-        for (uint8_t x : le32({2, 0, 1, 1})) channel.push_back(x);  // float, pLinear 0, 1 x 1
-        channel.push_back(0);
-        exrAttribute(b, "channels", "chlist", channel);
+    std::vector<uint8_t> list = {'Y', 0};  // one channel: float, pLinear 0, 1 x 1; the end
+    for (uint8_t x : le32({2, 0, 1, 1})) list.push_back(x);
+    list.push_back(0);
+    auto channels = [&list](std::vector<uint8_t>& b) {
+        exrAttribute(b, "channels", "chlist", list);
     };
     std::vector<uint8_t> wide;  // a data window 268 million pixels wide, as attribute bytes
     exrAttribute(wide, "dataWindow", "box2i", le32({0, 0, (1 << 28) - 1, 0}));
@@ -234,9 +234,6 @@ TEST_F(ImageIoTest, AnExrHeaderIsReadAsOpenExrReadsIt) {
 
     // A channel list whose size field is short of the list: OpenEXR reads to its empty name.
     b = start();
-    std::vector<uint8_t> list = {'Y', 0};
-    for (uint8_t x : le32({2, 0, 1, 1})) list.push_back(x);
-    list.push_back(0);
     std::vector<uint8_t> shortList(list.begin(), list.begin() + 1);  // size field: 1
     exrAttribute(b, "channels", "chlist", shortList);
     b.insert(b.end(), list.begin() + 1, list.end());
