@@ -53,7 +53,7 @@ struct EffortMeasurement {
     /// c_g are in `partitions`.
     std::vector<ChainPilot> movePilots;
     std::vector<uint8_t> move;
-    double mutationCost = 0;  // the mean cost of one pilot mutation over every partition
+    double mutationCost = 0;  // the mean cost of one pilot mutation, every partition and move
     double seconds = 0;       // both pilots
     uint64_t rays = 0;
     uint64_t chainMutations = 0;  // the chains' pilot's
