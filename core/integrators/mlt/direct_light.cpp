@@ -162,17 +162,19 @@ DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress)
     auto begin = std::chrono::steady_clock::now();
     constexpr uint64_t kPilotStream = 1;
     DirectPilot out;
-    // Their combined images are all the pilot needs: no type layers.
-    out.renderer = std::make_unique<DirectLightRenderer>(ctx, TypeLayers::of({}), kPilotStream);
-    DirectLightRenderer second(ctx, TypeLayers::of({}), kPilotStream);
-    out.renderer->renderPass({0, 1}, progress);
-    second.renderPass({1, 2}, progress);
-    const Image a = out.renderer->film().resolveCombined(1.0f);
-    const Image b = second.film().resolveCombined(1.0f);
+    // Sample `index` of every pixel; its combined image is all the pilot needs (no type layers).
+    auto sample = [&](uint64_t index) {
+        DirectLightRenderer renderer(ctx, TypeLayers::of({}), kPilotStream);
+        renderer.renderPass({index, index + 1}, progress);
+        out.rays += double(renderer.rays());
+        return renderer.film().resolveCombined(1.0f);
+    };
+    Image a = sample(0);
+    const Image b = sample(1);
     out.variance = luminanceSquaredDifference(a, b) / 2;
     out.errorSums = halvesError(a, b, 1, 1);
-    out.renderer->absorb(second);
-    out.rays = double(out.renderer->rays());
+    for (size_t i = 0; i < a.rgb.size(); ++i) a.rgb[i] = 0.5f * (a.rgb[i] + b.rgb[i]);
+    out.image = std::move(a);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     return out;
 }

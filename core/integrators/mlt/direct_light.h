@@ -101,14 +101,17 @@ LayeredImage resolveDirectLight(const Film& film, uint64_t spp, int maxTypeLayer
                                 ThreadPool* pool);
 
 /// The direct light's pilot: two samples of every pixel, independent of the image's own (a
-/// stream of their own), rendered into two films, which give the per-sample variance of the
-/// direct image, V_d = sum over pixels of (L0 - L1)^2 / 2 (L the luminance of a pixel's
-/// one-sample estimate: unbiased for independent samples; the image's stratified samples do
-/// better). The pilot's samples are not part of the image, so that the samples per pixel the
-/// rule draws from them do not depend on the samples they are averaged with.
+/// stream of their own), rendered one after the other into a film each, whose combined images
+/// give the per-sample variance of the direct image, V_d = sum over pixels of (L0 - L1)^2 / 2
+/// (L the luminance of a pixel's one-sample estimate: unbiased for independent samples; the
+/// image's stratified samples do better). Each film goes once its image is taken: the pilot
+/// holds one film and two images at most (100 MB at 1080p, the peak of a 1080p mlt render
+/// with --layers 0 while it held both films). The pilot's samples are not part of the image,
+/// so that the samples per pixel the rule draws from them do not depend on the samples they
+/// are averaged with.
 struct DirectPilot {
-    std::unique_ptr<DirectLightRenderer> renderer;  // both samples (a preview's direct light)
-    double variance = 0;                            // V_d
+    Image image;          // the two samples' mean, combined only (the previews' direct light)
+    double variance = 0;  // V_d
     /// The error sums of the pilot's image (its two samples' mean; half_split_error.h): the
     /// previews' direct light until the direct light proper has run (issue #26).
     ErrorSums errorSums;

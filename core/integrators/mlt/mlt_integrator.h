@@ -105,14 +105,24 @@ struct DirectLightRun {
     double rays() const { return (renderer ? double(renderer->rays()) : 0) + pilotRays; }
 };
 
+/// What the direct light after the chains needs of them, taken from their films so that the
+/// films may go before the direct light's are made: the type layers, and for the split rule
+/// (settings.directSpp = 0) the chains' error E_c (chainHalvesError; else negative).
+struct ChainsForDirect {
+    TypeLayers layers;
+    double error = -1;
+};
+ChainsForDirect chainsForDirect(const MltSettings& settings, const ChainHalves& chains,
+                                const RenderSettings& rs);
+
 /// A mutation budget's direct light once its chains are done, in process and in a sharded
 /// job's resolve alike (the same film and samples per pixel: bit-identical): settings.directSpp
 /// samples per pixel, or with 0 as many as neymanDirectSpp gives from the pilot's variance and
-/// rays (`pilot` when it already ran, else run here), the chains' error (chainHalvesError) and
-/// `chainRays`. With `keepHalves` the renderer keeps its error estimate's halves
-/// (DirectLightRenderer::keepHalves: the samples in two passes, the same film).
+/// rays (`pilot` when it already ran, else run here), the chains' error and `chainRays`. With
+/// `keepHalves` the renderer keeps its error estimate's halves (DirectLightRenderer::keepHalves:
+/// the samples in two passes, the same film).
 DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSettings& settings,
-                                      const ChainHalves& chains, double chainRays,
+                                      const ChainsForDirect& chains, double chainRays,
                                       const DirectPilot* pilot, bool keepHalves = false);
 
 /// The statistics of the direct light: the label "direct" (per-pixel or chains), direct_spp,

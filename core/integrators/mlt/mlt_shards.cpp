@@ -111,8 +111,8 @@ RenderResult MltShards::resolve(const RenderContext& ctx, std::span<const uint8_
     // films and rays, so the same samples per pixel and film.
     const ChainHalves halves{
         &merged.films[0], &merged.films[1], {merged.counts[0], merged.counts[1]}, b};
-    const DirectLightRun direct =
-        directLightAfterChains(ctx, settings_, halves, chainRays, nullptr);
+    const DirectLightRun direct = directLightAfterChains(
+        ctx, settings_, chainsForDirect(settings_, halves, rs), chainRays, nullptr);
     result.image = addDisjointParts(
         resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers, nullptr),
         resolveChainHalves(halves, rs, nullptr), rs.maxTypeLayers);
