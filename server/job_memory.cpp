@@ -31,6 +31,9 @@ constexpr double kPng = 3;  // a layer's PNG of a preview frame at most (8-bit R
 constexpr double kPreviewFrames = 2;  // the job's latest and one a slow watcher still holds
 constexpr double kRawCopies = 3;      // a raw frame's message, its wire form, one still sent
 constexpr double kPartition = 12;     // bytes per pixel and partition image
+// The chains' error estimate (mcmc/chain_error_monitor.h) resolves a partition's two halves and
+// a sum beside the films for a moment: three images (measured: +71 MiB at 1920x1080).
+constexpr double kEstimateImages = 3;
 constexpr double kSceneFactor = 4;
 constexpr double kBaseline = 8 << 20;  // job record, queues, per-job threads' stacks
 
@@ -185,6 +188,9 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     const bool samplePasses = algorithm == "pt" || algorithm == "bdpt";
     double errorImages = samplePasses ? 2 * pixels * kImageLayer : 0;
     double images = preview + errorImages + std::max(0.0, finalImage - film);
+    // Every partition's image, at most: a per-pixel partition's is made when its phase ends and
+    // held through the chains' (beside the films of the others), a chains' partition's when its
+    // films go at the end (ChainRunner::takeGroupCombined).
     double parts = partitions * pixels * kPartition;
     double scene = kSceneFactor * double(sceneBytes);
     double splats = algorithm == "bdpt" ? bdptExtraBytes(pixels) : 0;
@@ -201,24 +207,28 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     // partition: K + 3 sums a pixel at most) and bdpt's splats, the per-pixel estimator it may
     // be. Before it, the pilots hold less: the per-pixel pilot one film over at most 65536
     // pixels' samples, the chains' pilot one partition's two halves at a time
-    // (partition/effort_pilot.h). The phase ends before the chains' films are made (their
-    // images stay: `parts`), so the two are counted as the larger, not their sum.
+    // (partition/effort_pilot.h). The phase ends with its partitions' images made (after its
+    // splats are gone) and its film given back before the chains' films are made, so the two
+    // phases are counted as the larger, not their sum. In the chains' phase a partition holds
+    // either its two films or its image (12 B a pixel against 48): the films of every
+    // partition bound both, and the images made at the end as the films go.
     double perPixel = 0;
     if (hasPartitions(algorithm)) {
         const PartitionedSettings p = partitionedParameters().resolve(s.parameters);
         if (p.estimators != "chains")
-            perPixel = padded * kSum * (partitions + 1) + bdptExtraBytes(pixels);
+            perPixel = padded * kSum * (partitions + 1) + std::max(bdptExtraBytes(pixels), parts);
         else if (p.allocation != "p")  // the chains' pilot alone: two halves of one partition
             perPixel = padded * kSum * 2;
     }
-    const double filmOrPerPixel = std::max(film, perPixel);
+    const double chainsPhase = film + (partitions > 0 ? kEstimateImages * pixels * kImageLayer : 0);
+    const double filmOrPerPixel = std::max(chainsPhase, perPixel);
     double guides = algorithm == "guided" ? guideBytes(partitions, pixels) : 0;
     // An environment image while it loads: the decoded channels (4 B each), its RGB copy and
     // the map's importance tables (environment_map.h: 12 + 8 B a pixel).
     double sky = double(environment.pixels()) * (4.0 * environment.channels + 20);
     MemoryEstimate e;
-    e.bytes = uint64_t(filmOrPerPixel + images + parts + splats + survey + mltBytes + guides +
-                       scene + sky + kBaseline);
+    e.bytes = uint64_t(filmOrPerPixel + images + splats + survey + mltBytes + guides + scene + sky +
+                       kBaseline);
     char buf[256];
     std::snprintf(buf, sizeof buf, "%dx%d: %d film%s %s (%d type buffers), %d layers %s", s.width,
                   s.height, films, films == 1 ? "" : "s", humanBytes(film).c_str(), typeLayers,

@@ -550,11 +550,13 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     const PartitionedStart st = startPartitioned(ctx, settings, algorithm, mutations);
     const std::vector<Partition>& partitions = st.partitions;
     // The per-pixel partitions first: the chains then get what is left of a time budget.
-    const PerPixelRun pixels = renderPerPixel(ctx, st, start, settings.targetError);
-    // Their film is given back here: the chains' phase needs only its images.
+    PerPixelRun pixels = renderPerPixel(ctx, st, start, settings.targetError);
+    // Their film is given back here, and the renderer with what else it holds: the chains'
+    // phase needs only its images.
     std::vector<Image> pixelImages =
         pixels.renderer ? pixels.renderer->takeImages(pixels.spp, &ctx.pool) : std::vector<Image>{};
     const double pixelRays = pixels.renderer ? double(pixels.renderer->rays()) : 0;
+    pixels.renderer.reset();
     const double startupSeconds = st.startupSeconds + pixels.seconds;
     // The factory owns what the mutations read (guided's guides): it lives as long as the runner.
     const ChainRunner::MutationFactory factory = mutations.factory(ctx, partitions, st.prepared);
