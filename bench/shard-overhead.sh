@@ -32,7 +32,8 @@ for alg in ${ALGORITHMS:-pt mlt}; do
     esac
     job="$gltf --algorithm $alg $budget --width $W --height $H --seed 3"
     t0=$(now)
-    "$LOCAL" render $job --threads "$THREADS" --quiet --out "$OUT/$alg-one.exr"
+    # No previews: the shards make none either (a preview a second costs a 33-layer resolve).
+    "$LOCAL" render $job --threads "$THREADS" --quiet --preview-interval 0 --out "$OUT/$alg-one.exr"
     one=$(seconds "$t0" "$(now)")
     for n in ${SHARDS:-1 2}; do
         per=${SHARD_THREADS:-$((THREADS / n))}
