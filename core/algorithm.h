@@ -31,6 +31,9 @@ struct PartitionProgress {
     std::string type;
     double acceptance = 0, b = 0, p = 0, gamma = 0;
     std::string estimator;  // "chains" or "per-pixel" (issue #23 1); empty: chains
+    /// A chains' partition's image-plane move where the algorithm chooses one per partition
+    /// (guided: "guided" or "lens", PartitionMutations::moves); empty otherwise.
+    std::string move;
 };
 
 /// One progress report. `done`/`total` are in `unit` (e.g. "samples", "mutations").

@@ -77,6 +77,7 @@ pb::Progress toProto(const RenderProgress& p) {
         s->set_p(part.p);
         s->set_gamma(part.gamma);
         s->set_estimator(part.estimator);
+        s->set_move(part.move);
     }
     return out;
 }

@@ -45,8 +45,8 @@ RenderProgress toRenderProgress(const partita::v1::Progress& p) {
     r.etaSeconds = p.eta_seconds();
     r.elapsedSeconds = p.elapsed_seconds();
     for (const auto& part : p.partitions())
-        r.partitions.push_back(
-            {part.type(), part.acceptance(), part.b(), part.p(), part.gamma(), part.estimator()});
+        r.partitions.push_back({part.type(), part.acceptance(), part.b(), part.p(), part.gamma(),
+                                part.estimator(), part.move()});
     r.values.insert(p.values().begin(), p.values().end());
     return r;
 }

@@ -79,11 +79,13 @@ void addPartitionStats(RenderStats& st, const std::vector<Partition>& partitions
     }
 }
 
-/// Per partition: its type string, P(i), b_i, gamma and the running acceptance of its chains
+/// Per partition: its type string, P(i), b_i, gamma, the running acceptance of its chains
 /// (accepted / proposed over all its mutations so far; 0 without a runner: the per-pixel
-/// samples come before the chains).
+/// samples come before the chains), its estimator and, with more than one of `moves` to
+/// choose from, its chains' move.
 std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& partitions,
-                                                 const ChainRunner* runner) {
+                                                 const ChainRunner* runner,
+                                                 const std::vector<std::string>& moves) {
     std::vector<PartitionProgress> out;
     for (size_t g = 0; g < partitions.size(); ++g) {
         PartitionProgress pp;
@@ -93,6 +95,9 @@ std::vector<PartitionProgress> partitionProgress(const std::vector<Partition>& p
         pp.gamma = partitions[g].gamma;
         pp.acceptance = runner ? acceptanceOf(*runner, g) : 0;
         pp.estimator = partitions[g].perPixel ? "per-pixel" : "chains";
+        // The move, where there was one to choose.
+        if (!partitions[g].perPixel && moves.size() > 1 && partitions[g].move < moves.size())
+            pp.move = moves[partitions[g].move];
         out.push_back(std::move(pp));
     }
     return out;
@@ -475,7 +480,8 @@ uint64_t nextPerPixelPass(const RenderContext& ctx, const PerPixelRun& run, uint
 /// one sample: the chains never see these partitions' paths), in passes with previews between
 /// them (the images do not depend on the split). Phase "render", in samples.
 PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
-                           Clock::time_point start, double targetError) {
+                           const std::vector<std::string>& moves, Clock::time_point start,
+                           double targetError) {
     PerPixelRun out;
     if (!st.anyPerPixel()) return out;
     const RenderSettings& rs = ctx.settings;
@@ -490,7 +496,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
     ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
                               timed ? share : 0);
-    progress.setPartitions(partitionProgress(st.partitions, nullptr));
+    progress.setPartitions(partitionProgress(st.partitions, nullptr, moves));
     auto lastEstimate = begin;
     double estimateCost = 0;  // seconds the last estimate took (its images included)
     while (out.spp < most && !out.reachedTarget) {
@@ -550,7 +556,8 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
     const PartitionedStart st = startPartitioned(ctx, settings, algorithm, mutations);
     const std::vector<Partition>& partitions = st.partitions;
     // The per-pixel partitions first: the chains then get what is left of a time budget.
-    PerPixelRun pixels = renderPerPixel(ctx, st, start, settings.targetError);
+    const std::vector<std::string> moves = mutations.moves();
+    PerPixelRun pixels = renderPerPixel(ctx, st, moves, start, settings.targetError);
     // Their film is given back here, and the renderer with what else it holds: the chains'
     // phase needs only its images.
     std::vector<Image> pixelImages =
@@ -579,7 +586,7 @@ RenderResult renderPartitioned(const RenderContext& ctx, const PartitionPipeline
             },
             [&](RenderStats& stats) { addPartitionStats(stats, partitions, progressOf(runner)); },
             [&](ProgressReporter& progress) {
-                progress.setPartitions(partitionProgress(partitions, &runner));
+                progress.setPartitions(partitionProgress(partitions, &runner, moves));
                 monitor.afterRound(runner, progress);
             });
 

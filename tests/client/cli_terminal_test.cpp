@@ -153,6 +153,19 @@ TEST(ProgressBarTerminal, ABarWithoutATableIsRedrawnWithoutEscapes) {
     EXPECT_EQ(lines[2], "below");
 }
 
+TEST(PartitionTable, ShowsEachPartitionsMoveWhereTheAlgorithmChoseOne) {
+    RenderProgress p = report(3);
+    EXPECT_EQ(partitionTable(p).find("move"), std::string::npos) << partitionTable(p);
+    p.partitions[0].move = "guided";
+    p.partitions[1].move = "lens";
+    p.partitions[2].estimator = "per-pixel";  // no chains: no move
+    EXPECT_EQ(partitionTable(p),
+              "  partition     P(i)        b_i  estimator    acc  move\n"
+              "  LDE          0.333  1.000e-02  chains      0.25  guided\n"
+              "  LDSE         0.333  2.000e-02  chains      0.25  lens\n"
+              "  complement   0.333  3.000e-02  per-pixel      -  -\n");
+}
+
 TEST(ProgressBarTerminal, TheFirstTableReplacesTheBarDrawnBeforeIt) {
     SKIP_WITHOUT_PTY();
     // A phase's first report comes before its partitions; a short render draws its table once.

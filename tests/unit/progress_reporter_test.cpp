@@ -122,8 +122,8 @@ TEST(ProgressReporter, PartitionsGoOutWithTheNextReportAndStay) {
     Recorder r;
     ProgressReporter progress(r, "render", "mutations", 100, 0, /*minInterval=*/3600);
     EXPECT_TRUE(r.reports.front().partitions.empty());
-    progress.setPartitions(
-        {{"LDE", 0.5, 2.0, 0.75, 1.5, "chains"}, {"complement", 0.25, 1.0, 0.25, 0.5, "chains"}});
+    progress.setPartitions({{"LDE", 0.5, 2.0, 0.75, 1.5, "chains", ""},
+                            {"complement", 0.25, 1.0, 0.25, 0.5, "chains", ""}});
     progress.advance(10);  // held back by the interval
     progress.flush();
     ASSERT_EQ(r.reports.back().partitions.size(), 2u);

@@ -110,19 +110,26 @@ std::string partitionTable(const RenderProgress& p) {
     size_t width = 9;  // "partition"
     for (const auto& part : p.partitions) width = std::max(width, part.type.size());
     width = std::min<size_t>(width, 40);
+    // A "move" column where the algorithm chose one per partition (guided).
+    bool moves = false;
+    for (const auto& part : p.partitions) moves = moves || !part.move.empty();
+    auto row = [&](const std::string& move) {
+        return moves ? "  " + (move.empty() ? std::string("-") : move.substr(0, 8)) + "\n"
+                     : std::string("\n");
+    };
     char line[256];
-    std::snprintf(line, sizeof line, "  %-*s  %6s  %9s  %-9s  %5s\n", int(width), "partition",
-                  "P(i)", "b_i", "estimator", "acc");
-    std::string out = line;
+    std::snprintf(line, sizeof line, "  %-*s  %6s  %9s  %-9s  %5s", int(width), "partition", "P(i)",
+                  "b_i", "estimator", "acc");
+    std::string out = line + row("move");
     for (const auto& part : p.partitions) {
         // A per-pixel partition has no chains: no acceptance.
         const bool perPixel = part.estimator == "per-pixel";
         char acceptance[16];
         std::snprintf(acceptance, sizeof acceptance, "%5.2f", part.acceptance);
-        std::snprintf(line, sizeof line, "  %-*s  %6.3f  %9.3e  %-9s  %5s\n", int(width),
+        std::snprintf(line, sizeof line, "  %-*s  %6.3f  %9.3e  %-9s  %5s", int(width),
                       part.type.substr(0, width).c_str(), part.p, part.b,
                       perPixel ? "per-pixel" : "chains", perPixel ? "-" : acceptance);
-        out += line;
+        out += line + row(part.move);
     }
     return out;
 }

@@ -30,13 +30,16 @@ def state_name(state: int) -> str:
 class PartitionStats:
     """One of partitioned's partitions in a progress report: its type string ("complement" for
     the complement), its chains' running acceptance, b_i, P(i), the pre-pass's gamma and its
-    estimator ("chains", or "per-pixel": restricted BDPT samples, no acceptance)."""
+    estimator ("chains", or "per-pixel": restricted BDPT samples, no acceptance) and, where the
+    algorithm chooses one per partition, its chains' image-plane move (guided: "guided" or
+    "lens"; empty otherwise)."""
     type: str
     acceptance: float
     b: float
     p: float
     gamma: float = 0.0
     estimator: str = "chains"
+    move: str = ""
 
 
 @dataclass
@@ -70,7 +73,7 @@ class Progress:
         return cls(p.phase, p.done, p.total, p.unit, p.rate_per_second, p.eta_seconds,
                    p.elapsed_seconds,
                    [PartitionStats(q.type, q.acceptance, q.b, q.p, q.gamma,
-                                   q.estimator or "chains") for q in p.partitions],
+                                   q.estimator or "chains", q.move) for q in p.partitions],
                    dict(p.values), p)
 
 

@@ -55,7 +55,8 @@ function showPartitions(partitions) {
   partitionTypes = partitions.map((p) => p.type);
   const rows = partitions.map((p) => el("tr", {},
     el("td", { text: p.type }), el("td", { text: formatNumber(p.p) }),
-    el("td", { text: formatNumber(p.b) }), el("td", { text: p.estimator || "chains" }),
+    el("td", { text: formatNumber(p.b) }),
+    el("td", { text: (p.estimator || "chains") + (p.move ? ` (${p.move})` : "") }),
     el("td", { text: formatNumber(p.acceptance) })));
   document.querySelector("#partitions tbody").replaceChildren(...rows);
 }

@@ -7,6 +7,9 @@
 // algorithm.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <mutex>
+
 #include "params/job_parameters.h"
 #include "partitioned_helpers.h"
 #include "render_helpers.h"
@@ -64,15 +67,38 @@ TEST(Guided, TheLensMoveRendersPartitionedsImage) {
     EXPECT_TRUE(lens.image.combined.rgb == partitioned.image.combined.rgb);
 }
 
+/// Keeps the partition table of the last progress report that had one.
+class LastPartitionTable : public RenderObserver {
+  public:
+    void onProgress(const RenderProgress& p) override {
+        std::lock_guard lock(mutex_);
+        if (!p.partitions.empty()) partitions_ = p.partitions;
+    }
+    std::vector<PartitionProgress> partitions() {
+        std::lock_guard lock(mutex_);
+        return partitions_;
+    }
+
+  private:
+    std::mutex mutex_;
+    std::vector<PartitionProgress> partitions_;
+};
+
 TEST(Guided, AutoKeepsEachPartitionsMoveOfLessErrorPerCost) {
     // The chains' pilot runs both moves on every partition (allocation=neyman runs it with
-    // chains alone) and each partition keeps the one of least v_g c_g (issue #23 item 6).
+    // chains alone) and each partition keeps the one of least v_g c_g (issue #23 item 6),
+    // which the progress table shows (`partita watch`).
     RenderScene scene = loadScene("door-ajar");
     RenderSettings st = tinySettings(16, 7, BudgetKind::MutationsPerPixel);
     st.parameters.set("estimators", std::string("chains")).set("allocation", std::string("neyman"));
-    RenderResult r = test::renderWith(scene, "guided", st);
+    ThreadPool pool(2);
+    std::atomic<bool> cancel{false};
+    LastPartitionTable table;
+    RenderResult r = runRender(scene, "guided", st, pool, cancel, table);
     const int partitions = int(r.stats.values["partitions"]);
     ASSERT_GE(partitions, 3);
+    const std::vector<PartitionProgress> shown = table.partitions();
+    ASSERT_EQ(shown.size(), size_t(partitions));
     int guided = 0, lens = 0;
     for (int g = 0; g < partitions; ++g) {
         const std::string key = "partition_" + std::to_string(g) + "_";
@@ -84,6 +110,7 @@ TEST(Guided, AutoKeepsEachPartitionsMoveOfLessErrorPerCost) {
         const std::string expected =
             errorPerCost("lens") < errorPerCost("guided") ? "lens" : "guided";
         EXPECT_EQ(r.stats.labels[key + "move"], expected) << g;
+        EXPECT_EQ(shown[size_t(g)].move, expected) << g;
         EXPECT_EQ(r.stats.values[key + "chain_variance"],
                   r.stats.values[key + "chain_variance_" + expected])
             << g;
