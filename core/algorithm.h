@@ -68,6 +68,10 @@ class RenderObserver {
     /// and algorithms then resolve none (a preview of a film with thousands of types costs
     /// about a fifth of a path-traced bathroom at one a second).
     virtual bool wantsPreviews() const { return true; }
+    /// The seconds the observer's side spent delivering its last preview, on threads of its
+    /// own (the daemon encodes each frame's layers as PNGs for its watchers): previews are
+    /// spaced by it as by their own resolve (preview_schedule.h).
+    virtual double previewDeliverySeconds() const { return 0; }
 };
 
 struct RenderContext {

@@ -35,7 +35,9 @@ SettingsTable<RenderSettings> makeSharedParameters() {
                         "render); the rest sum into 'other'")
               .within(0, 1024),
           &S::maxTypeLayers);
-    t.add(ParameterSpec("preview_interval", "seconds between preview frames (0: none)")
+    t.add(ParameterSpec(
+              "preview_interval",
+              "seconds between preview frames (0: none); at least ten times what a frame costs")
               .withUnit("seconds")
               .atLeast(0),
           &S::previewIntervalSeconds);

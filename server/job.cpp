@@ -165,9 +165,24 @@ void Job::publishFrame(LayeredImage image, bool final) {
     auto frame = std::make_shared<const PreviewFrameData>(sequence, final, std::move(image));
     std::lock_guard lock(mutex_);
     if (latestFrame_ && latestFrame_->sequence() > sequence) return;
+    if (latestFrame_ && latestFrame_->encodeSeconds() > 0)
+        lastEncodeSeconds_ = latestFrame_->encodeSeconds();
     latestFrame_ = frame;
     for (const auto& w : watchers_)
         if (w.previews) w.watcher->onFrame(frame);
+}
+
+bool Job::hasPreviewWatchers() const {
+    std::lock_guard lock(mutex_);
+    for (const auto& w : watchers_)
+        if (w.previews) return true;
+    return false;
+}
+
+double Job::previewEncodeSeconds() const {
+    std::lock_guard lock(mutex_);
+    const double latest = latestFrame_ ? latestFrame_->encodeSeconds() : 0;
+    return latest > 0 ? latest : lastEncodeSeconds_;
 }
 
 void Job::releasePreviewFrame() {

@@ -90,6 +90,11 @@ class Job {
     /// so that finished jobs hold no images in memory.
     void keepFinalFrameOnDisk(const std::filesystem::path& resultExr);
 
+    /// Whether some open watcher asked for previews (a render makes none while none does).
+    bool hasPreviewWatchers() const;
+    /// Seconds the last preview frame whose PNGs were encoded took to encode.
+    double previewEncodeSeconds() const;
+
     /// Raises the cancel flag the render polls; the first reason given sticks.
     void requestCancel(CancelReason reason);
     CancelReason cancelReason() const { return cancelReason_.load(); }
@@ -121,6 +126,7 @@ class Job {
     std::vector<WatcherEntry> watchers_;  // those that still get events
     std::set<const JobWatcher*> open_;    // every accepted watcher whose stream is open
     std::shared_ptr<const PreviewFrameData> latestFrame_;
+    double lastEncodeSeconds_ = 0;  // of the last frame replaced after its PNGs were encoded
     uint64_t frameCount_ = 0;
     std::chrono::steady_clock::time_point lastProgressSent_{};
     std::string lastPhase_;

@@ -49,6 +49,9 @@ class JobObserver : public RenderObserver {
     void onPreview(LayeredImage image, const RenderStats&) override {
         job_.publishFrame(std::move(image), false);
     }
+    /// Previews are made while someone watches them (a watcher that joins gets the next one).
+    bool wantsPreviews() const override { return job_.hasPreviewWatchers(); }
+    double previewDeliverySeconds() const override { return job_.previewEncodeSeconds(); }
 
     /// Moves forward to `state` (no-op when already there or past it).
     void advance(pb::JobState state) {

@@ -52,11 +52,11 @@ pb::PreviewFrame PreviewFrameData::encode(bool raw) const {
         pngs.reserve(img->layers.size() + 1);
         pngs.push_back(png(img->combined));
         for (const auto& layer : img->layers) pngs.push_back(png(layer.image));
-        spdlog::debug(
-            "preview frame {}: {} PNGs of {}x{} in {:.1f} ms", sequence_, pngs.size(),
-            img->combined.width, img->combined.height,
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count());
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        encodeSeconds_.store(seconds);
+        spdlog::debug("preview frame {}: {} PNGs of {}x{} in {:.1f} ms", sequence_, pngs.size(),
+                      img->combined.width, img->combined.height, 1000 * seconds);
         if (image_) {
             std::lock_guard lock(mutex_);
             if (!pngs_) pngs_ = pngs;

@@ -4,6 +4,7 @@
 // anyone encode them.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -27,6 +28,8 @@ class PreviewFrameData {
     PreviewFrameData(uint64_t sequence, std::filesystem::path resultExr);
 
     uint64_t sequence() const { return sequence_; }
+    /// Seconds its PNGs took to encode (0 until a watcher has asked for them).
+    double encodeSeconds() const { return encodeSeconds_.load(); }
     bool isFinal() const { return final_; }
 
     /// The frame as sent: layer "combined" first, then one per type layer, each an sRGB PNG with
@@ -48,6 +51,7 @@ class PreviewFrameData {
     std::filesystem::path exr_;
     mutable std::mutex mutex_;
     mutable std::optional<std::vector<std::string>> pngs_;  // cached encoding (in-memory frames)
+    mutable std::atomic<double> encodeSeconds_{0};
     // The serialized event while some watcher still sends it, [0] PNG only, [1] with raw pixels.
     mutable std::weak_ptr<const grpc::ByteBuffer> wire_[2];
 };

@@ -9,6 +9,7 @@
 #include "half_split_error.h"
 #include "integrators/layer_survey.h"
 #include "mcmc/chain_error_monitor.h"
+#include "preview_schedule.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
 
@@ -30,7 +31,7 @@ class SamplePassLoop {
         ProgressReporter progress(ctx_.observer, "render", "samples",
                                   timed ? 0 : pixels * double(targetSpp), timed ? s.budget : 0);
         start_ = Clock::now();
-        auto lastPreview = start_;
+        PreviewSchedule previews(ctx_);
         uint64_t passSpp = 1;
         renderer_.keepOddHalf();
         while (sppDone_ < targetSpp) {
@@ -48,17 +49,15 @@ class SamplePassLoop {
             double elapsed = secondsSince(start_);
             if (timed && elapsed >= s.budget) break;
             // A first preview right after the first (one-sample) pass, so that a watcher sees
-            // the image within a moment of the render starting; then one per interval.
-            bool previewDue = s.previewIntervalSeconds > 0 && ctx_.observer.wantsPreviews() &&
-                              sppDone_ < targetSpp &&
-                              (begin == 0 || secondsSince(lastPreview) >= s.previewIntervalSeconds);
-            if (previewDue) {
-                lastPreview = Clock::now();
+            // the image within a moment of the render starting; then as the schedule says.
+            if (sppDone_ < targetSpp && previews.due()) {
+                const auto began = Clock::now();
                 // Resolved on the pool, which would sit idle meanwhile.
                 ctx_.observer.onPreview(renderer_.resolve(sppDone_, &ctx_.pool), stats(elapsed));
+                previews.shown(began);
             }
-            passSpp = nextPassSize(passSeconds / double(end - begin), secondsSince(start_),
-                                   secondsSince(lastPreview));
+            passSpp =
+                nextPassSize(passSeconds / double(end - begin), secondsSince(start_), previews);
         }
         finishEstimate(progress);
         progress.flush();
@@ -114,12 +113,11 @@ class SamplePassLoop {
     /// and never past a time budget. Each pass costs each pixel its film's sums fetched from
     /// memory again: at 1280x720, passes of 2 samples per pixel (a second each) rendered 12%
     /// slower than passes of 15.
-    uint64_t nextPassSize(double secondsPerSpp, double elapsed, double sincePreview) const {
+    uint64_t nextPassSize(double secondsPerSpp, double elapsed,
+                          const PreviewSchedule& previews) const {
         const RenderSettings& s = ctx_.settings;
         constexpr double kPassSeconds = 4;
-        double window = s.previewIntervalSeconds > 0 && ctx_.observer.wantsPreviews()
-                            ? std::max(0.0, s.previewIntervalSeconds - sincePreview)
-                            : kPassSeconds;
+        double window = previews.enabled() ? previews.untilDue() : kPassSeconds;
         if (s.budgetKind == BudgetKind::Seconds)
             window = std::min(window, std::max(0.0, s.budget - elapsed));
         if (!(secondsPerSpp > 0)) return 1;

@@ -4,6 +4,7 @@
 
 #include "clock.h"
 #include "path/path.h"
+#include "preview_schedule.h"
 #include "progress_reporter.h"
 #include "thread_pool.h"
 
@@ -21,19 +22,17 @@ void runChainsWithPreviews(const RenderContext& ctx, ChainRunner& runner, const 
     double seconds = timed ? std::max(1e-3, rs.budget - startupSeconds) : 0;
     ProgressReporter progress(ctx.observer, "render", "mutations",
                               timed ? 0 : double(plan.mutations()), seconds);
-    auto lastPreview = Clock::now();
-    bool first = true;
+    PreviewSchedule previews(ctx);
     auto afterRound = [&](double elapsed) {
         if (publish) publish(progress);
-        if (rs.previewIntervalSeconds <= 0 || !ctx.observer.wantsPreviews()) return;
-        if (!first && secondsSince(lastPreview) < rs.previewIntervalSeconds) return;
-        first = false;
-        lastPreview = Clock::now();
+        if (!previews.due()) return;
+        const auto began = Clock::now();
         RenderStats st;
         st.values["mutations"] = double(runner.mutationsDone());
         st.values["seconds"] = elapsed + startupSeconds;
         if (addStats) addStats(st);
         ctx.observer.onPreview(resolve(&ctx.pool), st);
+        previews.shown(began);
     };
     runner.run(progress, seconds, afterRound);
     progress.flush();

@@ -15,6 +15,7 @@
 #include "partition/partition_error.h"
 #include "partition/per_pixel_partitions.h"
 #include "path_type_bytes.h"
+#include "preview_schedule.h"
 #include "progress_reporter.h"
 #include "render_scene.h"
 #include "shard/chain_shards.h"
@@ -460,14 +461,13 @@ void previewPerPixel(const RenderContext& ctx, const PartitionedStart& st, const
 /// one with a time budget, which must not be overshot), at most the samples so far while a
 /// target error is watched (the estimate is looked at after each pass), never past `most`.
 uint64_t nextPerPixelPass(const RenderContext& ctx, const PerPixelRun& run, uint64_t most,
-                          double secondsPerSample, double sincePreview, double timeLeft,
+                          double secondsPerSample, const PreviewSchedule& previews, double timeLeft,
                           bool watch) {
     if (run.spp == 0) return 1;
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
     double window = timed ? 0.25 : 1.0;
-    if (rs.previewIntervalSeconds > 0 && ctx.observer.wantsPreviews())
-        window = std::max(0.0, rs.previewIntervalSeconds - sincePreview);
+    if (previews.enabled()) window = previews.untilDue();
     if (timed) window = std::min(window, timeLeft);
     uint64_t n =
         secondsPerSample > 0 ? uint64_t(std::clamp(window / secondsPerSample, 1.0, 4096.0)) : 1;
@@ -491,8 +491,8 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     const double share = timed ? st.pixelShare * std::max(0.0, rs.budget - secondsSince(start)) : 0;
     // With a target to watch and no chains to follow, the render's own estimate stops it.
     const bool watch = targetError > 0 && st.plan.chains.empty();
-    const bool previews = rs.previewIntervalSeconds > 0 && ctx.observer.wantsPreviews();
-    auto begin = Clock::now(), lastPreview = begin;
+    PreviewSchedule previews(ctx);
+    auto begin = Clock::now();
     out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
     ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
                               timed ? share : 0);
@@ -504,8 +504,8 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
         const double elapsed = secondsSince(begin);
         if (timed && out.spp > 0 && (elapsed >= share || secondsSince(start) >= rs.budget)) break;
         const uint64_t n =
-            nextPerPixelPass(ctx, out, most, out.spp > 0 ? elapsed / double(out.spp) : 0,
-                             secondsSince(lastPreview), share - elapsed, watch);
+            nextPerPixelPass(ctx, out, most, out.spp > 0 ? elapsed / double(out.spp) : 0, previews,
+                             share - elapsed, watch);
         out.renderer->renderPass({out.spp, out.spp + n}, progress);
         out.spp += n;
         // The estimate (the dashboard's error curves) after every pass while a target is
@@ -514,9 +514,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
         // interval.
         const bool estimate = watch || out.spp == n ||
                               ChainErrorMonitor::dueAfter(secondsSince(lastEstimate), estimateCost);
-        const bool preview =
-            previews && out.spp < most &&
-            (out.spp == n || secondsSince(lastPreview) >= rs.previewIntervalSeconds);
+        const bool preview = out.spp < most && previews.due();
         if (!estimate && !preview) continue;
         const auto resolving = Clock::now();
         std::vector<Image> images = out.renderer->images(out.spp, &ctx.pool);
@@ -532,8 +530,8 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                 watch && out.spp >= 2 && e.combined >= 0 && e.combined <= targetError;
         }
         if (preview && !out.reachedTarget) {
-            lastPreview = Clock::now();
             previewPerPixel(ctx, st, out, std::move(images), start);
+            previews.shown(resolving);  // its images' resolve included
         }
     }
     progress.flush();

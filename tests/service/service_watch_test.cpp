@@ -77,8 +77,10 @@ TEST(ServiceWatch, SlowWatcherSkipsFramesButGetsTheFinalOneAndTheEnd) {
     Daemon daemon(store.path());
     ASSERT_TRUE(daemon.running());
     auto stub = daemon.stub();
-    // Big raw frames (~30 layers of 230 KB) fill the stream's flow-control window at once.
-    pb::JobSpec spec = sceneSpec("cornell-glass", 160, 120, 16, 4);
+    // Big raw frames (~30 layers of 230 KB) fill the stream's flow-control window at once. The
+    // previews are spaced by ten times their cost (preview_schedule.h, ~20-40 ms a frame of 30
+    // PNGs here): enough samples for several of them.
+    pb::JobSpec spec = sceneSpec("cornell-glass", 160, 120, 128, 4);
     spec.set_preview_interval_seconds(0.05);
     Submitted job = submit(*stub, spec);
     ASSERT_TRUE(job.status.ok());
