@@ -109,15 +109,12 @@ class SamplePassLoop {
     }
 
     /// Passes sized to end when the next preview is due (so previews keep to their interval
-    /// rather than waiting for a pass to finish), about kPassSeconds when no preview is wanted,
-    /// and never past a time budget. Each pass costs each pixel its film's sums fetched from
-    /// memory again: at 1280x720, passes of 2 samples per pixel (a second each) rendered 12%
-    /// slower than passes of 15.
+    /// rather than waiting for a pass to finish), about kPassSecondsWithoutPreviews when no
+    /// preview is wanted, and never past a time budget.
     uint64_t nextPassSize(double secondsPerSpp, double elapsed,
                           const PreviewSchedule& previews) const {
         const RenderSettings& s = ctx_.settings;
-        constexpr double kPassSeconds = 4;
-        double window = previews.enabled() ? previews.untilDue() : kPassSeconds;
+        double window = previews.enabled() ? previews.untilDue() : kPassSecondsWithoutPreviews;
         if (s.budgetKind == BudgetKind::Seconds)
             window = std::min(window, std::max(0.0, s.budget - elapsed));
         if (!(secondsPerSpp > 0)) return 1;

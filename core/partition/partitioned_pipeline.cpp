@@ -457,16 +457,17 @@ void previewPerPixel(const RenderContext& ctx, const PartitionedStart& st, const
 }
 
 /// The samples of the per-pixel phase's next pass: one first (a preview right after it), then
-/// as many as end when the next preview is due (about a second without previews, a quarter of
-/// one with a time budget, which must not be overshot), at most the samples so far while a
-/// target error is watched (the estimate is looked at after each pass), never past `most`.
+/// as many as end when the next preview is due (kPassSecondsWithoutPreviews without previews,
+/// a quarter of a second with a time budget, which must not be overshot), at most the samples
+/// so far while a target error is watched (the estimate is looked at after each pass), never
+/// past `most`.
 uint64_t nextPerPixelPass(const RenderContext& ctx, const PerPixelRun& run, uint64_t most,
                           double secondsPerSample, const PreviewSchedule& previews, double timeLeft,
                           bool watch) {
     if (run.spp == 0) return 1;
     const RenderSettings& rs = ctx.settings;
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
-    double window = timed ? 0.25 : 1.0;
+    double window = timed ? 0.25 : kPassSecondsWithoutPreviews;
     if (previews.enabled()) window = previews.untilDue();
     if (timed) window = std::min(window, timeLeft);
     uint64_t n =
