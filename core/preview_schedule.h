@@ -9,10 +9,8 @@
 // previews are wanted is asked each time (a daemon job makes them while someone watches).
 #pragma once
 
-#include <algorithm>
-
 #include "algorithm.h"
-#include "clock.h"
+#include "cost_bounded_schedule.h"
 
 namespace partita {
 
@@ -23,33 +21,25 @@ class PreviewSchedule {
     /// Previews only where the settings ask for them (an interval > 0) and the observer wants
     /// them.
     explicit PreviewSchedule(const RenderContext& ctx)
-        : observer_(ctx.observer), interval_(ctx.settings.previewIntervalSeconds) {}
+        : observer_(ctx.observer),
+          enabledBySettings_(ctx.settings.previewIntervalSeconds > 0),
+          schedule_(ctx.settings.previewIntervalSeconds, kCostFactor) {}
 
-    bool enabled() const { return interval_ > 0 && observer_.wantsPreviews(); }
+    bool enabled() const { return enabledBySettings_ && observer_.wantsPreviews(); }
     /// The seconds between two previews now: the setting's, or kCostFactor times the last
     /// preview's cost (the render's and the observer's) if that is longer.
-    double interval() const {
-        return std::max(interval_, kCostFactor * (lastCost_ + observer_.previewDeliverySeconds()));
-    }
+    double interval() const { return schedule_.interval(observer_.previewDeliverySeconds()); }
     /// Whether a preview is due: the first one, or interval() after the last one began.
-    bool due() const { return enabled() && (!shown_ || secondsSince(last_) >= interval()); }
+    bool due() const { return enabled() && schedule_.due(observer_.previewDeliverySeconds()); }
     /// Seconds until the next preview is due (0 when due), to size the work before it.
-    double untilDue() const {
-        return shown_ ? std::max(0.0, interval() - secondsSince(last_)) : 0.0;
-    }
+    double untilDue() const { return schedule_.untilDue(observer_.previewDeliverySeconds()); }
     /// A preview that began at `began` has been handed over now.
-    void shown(Clock::time_point began) {
-        shown_ = true;
-        last_ = began;
-        lastCost_ = secondsSince(began);
-    }
+    void shown(Clock::time_point began) { schedule_.ran(began); }
 
   private:
     const RenderObserver& observer_;
-    double interval_;
-    bool shown_ = false;
-    Clock::time_point last_{};
-    double lastCost_ = 0;  // seconds the last preview took
+    bool enabledBySettings_;
+    CostBoundedSchedule schedule_;
 };
 
 }  // namespace partita

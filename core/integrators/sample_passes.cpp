@@ -79,8 +79,7 @@ class SamplePassLoop {
     /// half a second. The last one is made at the end (finishEstimate).
     void renderAndEstimate(SampleRange pass, ProgressReporter& progress) {
         renderer_.renderPass(pass, progress);
-        if (settings_.targetError > 0 || !errorEstimate_.ready() ||
-            ChainErrorMonitor::dueAfter(secondsSince(lastEstimate_), estimateCost_))
+        if (settings_.targetError > 0 || !errorEstimate_.ready() || estimates_.due())
             estimate(pass.end, progress);
     }
 
@@ -90,8 +89,7 @@ class SamplePassLoop {
         estimatedSpp_ = samples;
         if (errorEstimate_.ready())
             progress.setValues({{"error_estimate", errorEstimate_.relativeRmse()}});
-        lastEstimate_ = Clock::now();
-        estimateCost_ = secondsSince(begin);
+        estimates_.ran(begin);
     }
 
     /// The final image's estimate, for its statistics and the last progress report.
@@ -145,8 +143,7 @@ class SamplePassLoop {
     const SamplePassSettings settings_;
     HalfSplitError errorEstimate_;
     uint64_t estimatedSpp_ = 0;  // the samples per pixel of the last estimate
-    Clock::time_point lastEstimate_;
-    double estimateCost_ = 0;  // seconds the last estimate took
+    CostBoundedSchedule estimates_ = ChainErrorMonitor::estimateSchedule();
     bool reachedTarget_ = false;
     Clock::time_point start_;
     uint64_t sppDone_ = 0;

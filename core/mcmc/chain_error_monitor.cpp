@@ -14,10 +14,6 @@ ChainErrorMonitor::ChainErrorMonitor(const RenderSettings& settings, double targ
       minMutations_(kMinMutationsPerPixel * double(settings.width) * double(settings.height)),
       estimator_(std::move(estimator)) {}
 
-bool ChainErrorMonitor::dueAfter(double sinceLast, double lastCost) {
-    return sinceLast >= std::max(0.5, 20 * lastCost);
-}
-
 void ChainErrorMonitor::Estimate::publish(ProgressReporter& progress) const {
     std::map<std::string, double> values = parts;
     if (combined >= 0) values["error_estimate"] = combined;
@@ -27,14 +23,13 @@ void ChainErrorMonitor::Estimate::publish(ProgressReporter& progress) const {
 bool ChainErrorMonitor::due() const {
     // Every round until the first estimate (the halves need mutations in both).
     if (everyRound_ || latest_.combined < 0) return true;
-    return dueAfter(secondsSince(last_), lastCost_);
+    return schedule_.due();
 }
 
 void ChainErrorMonitor::estimateNow() {
     auto begin = Clock::now();
     latest_ = estimator_();
-    last_ = Clock::now();
-    lastCost_ = secondsSince(begin);
+    schedule_.ran(begin);
 }
 
 void ChainErrorMonitor::afterRound(ChainRunner& runner, ProgressReporter& progress) {

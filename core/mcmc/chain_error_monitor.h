@@ -19,6 +19,7 @@
 
 #include "algorithm.h"
 #include "clock.h"
+#include "cost_bounded_schedule.h"
 
 namespace partita {
 
@@ -46,10 +47,10 @@ class ChainErrorMonitor {
     /// (the trust rule's mutations).
     ChainErrorMonitor(const RenderSettings& settings, double targetError, Estimator estimator);
 
-    /// The rule for an estimate that is not needed every round: due once `sinceLast` seconds
-    /// have passed since the last, which took `lastCost` seconds: at most every half second and
-    /// at most 5% of the time. (The per-pixel partitions' passes follow it too.)
-    static bool dueAfter(double sinceLast, double lastCost);
+    /// The rule for an estimate that is not needed every round: at most every half second and
+    /// at most 5% of the time. (The per-pixel partitions' and the sample passes' estimates
+    /// follow it too.)
+    static CostBoundedSchedule estimateSchedule() { return {0.5, 20}; }
 
     /// After a round of `runner`'s chains: estimate when due, publish, stop at the target.
     void afterRound(ChainRunner& runner, ProgressReporter& progress);
@@ -70,8 +71,7 @@ class ChainErrorMonitor {
     Estimator estimator_;
     Estimate latest_;
     bool reachedTarget_ = false;
-    Clock::time_point last_{};
-    double lastCost_ = 0;
+    CostBoundedSchedule schedule_ = estimateSchedule();
 };
 
 }  // namespace partita

@@ -498,8 +498,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
                               timed ? share : 0);
     progress.setPartitions(partitionProgress(st.partitions, nullptr, moves));
-    auto lastEstimate = begin;
-    double estimateCost = 0;  // seconds the last estimate took (its images included)
+    CostBoundedSchedule estimates = ChainErrorMonitor::estimateSchedule();
     while (out.spp < most && !out.reachedTarget) {
         ctx.throwIfCancelled();
         const double elapsed = secondsSince(begin);
@@ -513,8 +512,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
         // watched, else by the chains' monitor's rule (a 1280x720 image's partitions take a
         // tenth of a second to resolve); a preview after the first pass, then once per
         // interval.
-        const bool estimate = watch || out.spp == n ||
-                              ChainErrorMonitor::dueAfter(secondsSince(lastEstimate), estimateCost);
+        const bool estimate = watch || out.spp == n || estimates.due();
         const bool preview = out.spp < most && previews.due();
         if (!estimate && !preview) continue;
         const auto resolving = Clock::now();
@@ -523,8 +521,7 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
             // No chains yet: the combined image's error only when every partition is per pixel.
             const ChainErrorMonitor::Estimate e = estimatePartitionError(
                 st.partitions, nullptr, images, st.pixelVarianceRgb, out.spp);
-            lastEstimate = Clock::now();
-            estimateCost = secondsSince(resolving);
+            estimates.ran(resolving);  // its images' resolve included
             e.publish(progress);
             // With a target to watch, the render's own estimate stops it (trusted from 2 spp).
             out.reachedTarget =
