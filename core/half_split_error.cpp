@@ -107,6 +107,19 @@ ErrorSums HalfSplitError::errorSums() const {
     });
 }
 
+double HalfSplitError::perSampleLuminanceVariance() const {
+    if (!ready()) return 0;
+    const double nA = double(samplesA_), nB = double(samplesB_), n = nA + nB;
+    double sum = 0;
+    for (size_t i = 0; i + 2 < previous_.rgb.size(); i += 3) {
+        const Rgb a(halfA_.rgb[i], halfA_.rgb[i + 1], halfA_.rgb[i + 2]);
+        const Rgb total(previous_.rgb[i], previous_.rgb[i + 1], previous_.rgb[i + 2]);
+        const double d = double(luminance(a)) / nA - double(luminance(total - a)) / nB;
+        sum += d * d;
+    }
+    return sum * nA * nB / n;
+}
+
 double HalfSplitError::relativeRmse() const { return errorSums().relativeRmse(); }
 
 }  // namespace partita

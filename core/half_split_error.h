@@ -73,6 +73,11 @@ class HalfSplitError {
     double relativeRmse() const;
     /// The full image's error sums (zero sums when not ready).
     ErrorSums errorSums() const;
+    /// The per-sample variance of a pixel's estimate in luminance, summed over pixels:
+    /// n sum over pixels of lum(I_A - I_B)^2 n_A n_B / n^2 (n = n_A + n_B), so that the full
+    /// image's summed luminance variance is this / n. The unit of a pilot's variance (mlt's
+    /// direct light: luminanceSquaredDifference of two one-sample images / 2). 0 when not ready.
+    double perSampleLuminanceVariance() const;
 
   private:
     Image previous_;  // the sums after the last run

@@ -186,6 +186,14 @@ double chainHalvesError(const Film& all, const Film& half, uint64_t mutationsA, 
     return luminanceSquaredDifference(a, b) / 4;
 }
 
+double pooledDirectVariance(double pilotVariance, const HalfSplitError& own) {
+    constexpr double kPilotSamples = 2;
+    const double n = double(own.samplesA() + own.samplesB());
+    if (!own.ready()) return pilotVariance;
+    return (kPilotSamples * pilotVariance + n * own.perSampleLuminanceVariance()) /
+           (kPilotSamples + n);
+}
+
 uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,
                          double chainCost, uint64_t lo, uint64_t hi) {
     if (!(chainError > 0) || !(chainCost > 0) || !(directCost > 0) || !(directVariance >= 0))

@@ -120,6 +120,15 @@ struct DirectPilot {
 };
 DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress);
 
+/// V_d from the pilot's two samples per pixel and the direct light's own samples so far (its
+/// halves, keepHalves), pooled by their counts: (2 V_pilot + n V_own) / (2 + n), V_own from
+/// HalfSplitError::perSampleLuminanceVariance. The pilot alone misses what is bright and rare:
+/// on pool the light's glints in the water reach a pixel in 1 of ~60 samples, about one hit
+/// in four passes over the image, so two pilot samples see none in most seeds and put V_d 10^4
+/// times too low (the direct light got 5 samples per pixel, and its glints 90% of the image's
+/// squared error). The split rule is re-read with this after each pass of the direct light.
+double pooledDirectVariance(double pilotVariance, const HalfSplitError& own);
+
 /// The error of the chains' image, sum over pixels of its variance, from two halves of the
 /// chains (independent chains, each half's image resolved with b W H / its own mutations):
 /// (I_a - I_b)^2 / 4 summed over pixels, in luminance. The halves come as `all` (both halves'

@@ -220,8 +220,11 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
     const double pilotSeconds = pilot ? pilot->seconds : 0;  // ran before
     DirectLightRun out;
     uint64_t spp = settings.directSpp;
-    if (spp == 0) {
-        DirectPilot own;
+    const bool byRule = spp == 0;
+    const uint64_t minSpp = std::max<uint64_t>(2, settings.directMinSpp);
+    const uint64_t maxSpp = std::max(minSpp, settings.directMaxSpp);
+    DirectPilot own;
+    if (byRule) {
         if (!pilot) {
             own = runDirectPilot(ctx, nullptr);
             pilot = &own;
@@ -230,17 +233,32 @@ DirectLightRun directLightAfterChains(const RenderContext& ctx, const MltSetting
         out.pilotRays = pilot->rays;
         out.chainError = chains.error;
         // Costs in rays: c_d of one sample per pixel (the pilot's two), T_c the chains'.
-        spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, 2,
-                              std::max<uint64_t>(2, settings.directMaxSpp));
+        spp = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError, chainRays, minSpp,
+                              maxSpp);
     }
     out.renderer = std::make_unique<DirectLightRenderer>(ctx, chains.layers);
     // No progress reports: the render phase's last report stays the chains' (mutations). With
     // the halves, two passes (the same film as one: every sample has its own stream and the
-    // sums are exact).
+    // sums are exact). The rule re-reads V_d from them, so it always keeps them.
+    keepHalves = keepHalves || byRule;
     const uint64_t firstPass = keepHalves ? spp / 2 : spp;
     if (keepHalves) out.renderer->keepHalves();
     out.renderer->renderPass({0, firstPass}, nullptr);
     out.renderer->renderPass({firstPass, spp}, nullptr);
+    // The rule again with V_d pooled from the pilot and the samples so far (what the pilot's
+    // two samples missed: pooledDirectVariance), at most doubling the samples at a time so
+    // that each step reads an estimate of the samples before it. Deterministic: the samples
+    // alone decide, so a sharded job's resolve renders the same.
+    while (byRule && spp < maxSpp) {
+        out.variance = pooledDirectVariance(pilot->variance, out.renderer->halves());
+        const uint64_t wanted = neymanDirectSpp(out.variance, pilot->rays / 2, out.chainError,
+                                                chainRays, minSpp, maxSpp);
+        if (wanted <= spp) break;
+        ctx.throwIfCancelled();
+        const uint64_t next = std::min(wanted, 2 * spp);
+        out.renderer->renderPass({spp, next}, nullptr);
+        spp = next;
+    }
     out.spp = spp;
     out.seconds = secondsSince(begin) + pilotSeconds;
     return out;
@@ -467,24 +485,38 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             direct.chainError =
                 chainHalvesError(*halves.all, *halves.odd, halves.mutations[0], halves.mutations[1],
                                  halves.b, rs.width, rs.height);
-            const double perSpp = pilot.seconds / 2;
-            const double share =
+            double perSpp = pilot.seconds / 2;
+            double share =
                 neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
-            const double target = share * total;
-            double directSeconds = pilot.seconds;
+            double directSeconds = pilot.seconds, passSeconds = 0;
             ProgressReporter progress(ctx.observer, "render", "samples", 0);
             // At least one sample per pixel, whatever the share: the chains never see direct
-            // paths, so without it the image would miss them.
-            while (direct.spp == 0 || (directSeconds < target && direct.spp < (uint64_t(1) << 20) &&
-                                       secondsSince(start) < rs.budget)) {
+            // paths, so without it the image would miss them. Then at least directMinSpp while
+            // the budget lasts (the variance is read from them), and the share.
+            const uint64_t minSpp = std::max<uint64_t>(1, settings_.directMinSpp);
+            while (direct.spp == 0 ||
+                   (direct.spp < (uint64_t(1) << 20) && secondsSince(start) < rs.budget &&
+                    (direct.spp < minSpp || directSeconds < share * total))) {
                 ctx.throwIfCancelled();
-                // Passes of about a quarter of a second, never past the share.
-                const double left = std::min(target - directSeconds, 0.25);
-                const uint64_t n = uint64_t(std::clamp(left / std::max(perSpp, 1e-9), 1.0, 4096.0));
+                // Passes of about a quarter of a second, never past the share (but to the
+                // fewest samples).
+                const double left = std::min(share * total - directSeconds, 0.25);
+                const double toMin = double(minSpp) - double(direct.spp);
+                uint64_t n = uint64_t(
+                    std::clamp(std::max(toMin, left / std::max(perSpp, 1e-9)), 1.0, 4096.0));
+                // The first pass is one half's (passes alternate between the two): at most
+                // half the fewest, so both hold samples when the variance is first read.
+                if (direct.spp == 0) n = std::min(n, std::max<uint64_t>(1, minSpp / 2));
                 auto passStart = Clock::now();
                 direct.renderer->renderPass({direct.spp, direct.spp + n}, &progress);
                 direct.spp += n;
-                directSeconds += secondsSince(passStart);
+                passSeconds += secondsSince(passStart);
+                directSeconds = pilot.seconds + passSeconds;
+                // The rule again after every pass, with V_d pooled from the pilot and the
+                // samples so far (pooledDirectVariance) and the passes' own cost.
+                direct.variance = pooledDirectVariance(pilot.variance, direct.renderer->halves());
+                perSpp = passSeconds / double(direct.spp);
+                share = neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
             }
             progress.flush();
             direct.seconds = directSeconds;

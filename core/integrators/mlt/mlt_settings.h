@@ -32,14 +32,19 @@ struct MltSettings {
     std::string direct = "per-pixel";
     /// Samples per pixel of the per-pixel direct light; 0 (the default): chosen by the rule of
     /// direct_light.h (Neyman allocation from the measured variances and costs of the two
-    /// parts: the direct light's first two samples per pixel, two halves of the chains), at
-    /// least 2 and at most directMaxSpp. A mutation budget's chains keep their mutations and
-    /// the direct light comes after them, its cost counted in rays (deterministic); a time
-    /// budget's chains run a first quarter of the time, then the rule splits the whole time in
-    /// seconds. A fixed count (Mitsuba's directSamples is 16) with a mutation budget is rendered
-    /// besides the mutations; with a time budget it stops early when it has had directShare of
-    /// the time the bootstrap left, and the chains get the rest. Parameter "direct_spp".
+    /// parts: the direct light's first two samples per pixel, then its own samples so far, two
+    /// halves of the chains), at least directMinSpp and at most directMaxSpp. A mutation budget's
+    /// chains keep their mutations and the direct light comes after them, its cost counted in rays
+    /// (deterministic); a time budget's chains run a first quarter of the time, then the rule
+    /// splits the whole time in seconds. A fixed count (Mitsuba's directSamples is 16) with a
+    /// mutation budget is rendered besides the mutations; with a time budget it stops early when it
+    /// has had directShare of the time the bootstrap left, and the chains get the rest. Parameter
+    /// "direct_spp".
     uint64_t directSpp = 0;
+    /// The rule's fewest samples per pixel (Mitsuba's directSamples default): its variance is
+    /// measured from the samples so far (pooledDirectVariance), and what is bright and rare
+    /// (pool's glints: ~1 hit in 4 passes over the image) is seen only after enough of them.
+    uint64_t directMinSpp = 16;
     uint64_t directMaxSpp = 4096;
     double directShare = 0.5;
     double firstChainShare = 0.25;  // auto with a time budget: the chains' measuring stage

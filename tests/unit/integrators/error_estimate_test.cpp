@@ -69,6 +69,35 @@ TEST(HalfSplitError, SquaredEstimateAveragesToTheVarianceOfTheMean) {
     EXPECT_NEAR(m.mean, 1.0, test::statisticalTolerance(m, 1.0)) << m.standardError;
 }
 
+TEST(HalfSplitError, PerSampleLuminanceVarianceAveragesToTheSummedSampleVariance) {
+    // Grey pixels (luminance = value) of per-sample deviation sigma_i, runs of uneven sizes:
+    // E[estimate] = sum_i sigma_i^2, whatever the means and the split.
+    constexpr int kWidth = 8, kHeight = 4, kTrials = 300;
+    const std::vector<uint64_t> passSizes = {2, 3, 1, 6, 4};
+    std::vector<double> ratios;
+    double truth = 0;
+    for (int i = 0; i < kWidth * kHeight; ++i) truth += std::pow(0.5 + double(i % 5), 2);
+    for (int trial = 0; trial < kTrials; ++trial) {
+        std::mt19937_64 rng(5000 + trial);
+        std::normal_distribution<double> normal;
+        HalfSplitError estimate;
+        Image sums(kWidth, kHeight);
+        for (size_t run = 0; run < passSizes.size(); ++run) {
+            for (int i = 0; i < kWidth * kHeight; ++i) {
+                const double mu = 1.0 + double(i % 7), sigma = 0.5 + double(i % 5);
+                for (uint64_t k = 0; k < passSizes[run]; ++k) {
+                    const float v = float(mu + sigma * normal(rng));
+                    for (int c = 0; c < 3; ++c) sums.rgb[size_t(3 * i + c)] += v;
+                }
+            }
+            estimate.addRun(sums, passSizes[run], run % 2 == 0);
+        }
+        ratios.push_back(estimate.perSampleLuminanceVariance() / truth);
+    }
+    auto m = meanAndError(ratios);
+    EXPECT_NEAR(m.mean, 1.0, test::statisticalTolerance(m, 1.0)) << m.standardError;
+}
+
 TEST(HalfSplitError, NotReadyUntilBothHalvesHaveSamples) {
     HalfSplitError estimate;
     Image sums(2, 2);

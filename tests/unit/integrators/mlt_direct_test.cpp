@@ -190,6 +190,21 @@ TEST(MltDirect, TheSplitRuleMinimisesTheModelError) {
     EXPECT_EQ(neymanDirectShare(0, cd, ec, tc), 0.0);
 }
 
+TEST(MltDirect, TheRuleReadsTheVarianceFromThePilotAndItsOwnSamples) {
+    // Before the direct light has samples in both halves: the pilot's V_d. After: pooled by
+    // sample counts with the halves' per-sample variance (here one grey pixel: half A 3 samples
+    // summing to 3, half B 1 sample of 5: per-sample variance (1 - 5)^2 3 / 4 = 12).
+    HalfSplitError own;
+    Image sums(1, 1);
+    sums.rgb.assign(3, 3.0f);
+    own.addRun(sums, 3, true);
+    EXPECT_EQ(pooledDirectVariance(7.0, own), 7.0);
+    sums.rgb.assign(3, 8.0f);
+    own.addRun(sums, 1, false);
+    EXPECT_NEAR(own.perSampleLuminanceVariance(), 12.0, 1e-4);
+    EXPECT_NEAR(pooledDirectVariance(7.0, own), (2 * 7.0 + 4 * 12.0) / 6, 1e-4);
+}
+
 TEST(MltDirect, ClassifiesTheDirectLightTypes) {
     for (const char* s : {"LE", "LSE", "LSSSE", "LDE", "LDSE", "LDSSSE"}) {
         PathType t;
