@@ -200,7 +200,7 @@ EffortMeasurement measureEffort(const RenderContext& ctx, const BootstrapSampler
                 runPerPixelPilot(ctx, partitions, estimator, kPerPixelPilotSample, progress, k);
             out.pixelPilots.push_back({estimator, pilot.variance,
                                        timed ? pilot.secondsPerSample : pilot.raysPerSample,
-                                       pilot.varianceRgb});
+                                       pilot.varianceRgb, 2 * double(k)});
             out.rays += uint64_t(2 * double(k) * pilot.raysPerSample);
             ctx.throwIfCancelled();
         }

@@ -34,6 +34,7 @@ struct PixelPilot {
     std::vector<double> variance;
     double cost = 0;
     std::vector<double> varianceRgb;  // PerPixelPilot's
+    double samplesPerPixel = 0;       // 2k: the samples its variances were measured from
 };
 
 /// The chains' pilot of one move: per partition v_g and c_g (-1 and 0 where it ran no chains).

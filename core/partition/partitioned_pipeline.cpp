@@ -120,6 +120,11 @@ struct PartitionedStart {
     /// The chosen per-pixel estimator's pilot variances (PerPixelPilot::varianceRgb), for the
     /// error estimate; not in a shard plan (a sharded job estimates none).
     std::vector<double> pixelVarianceRgb;
+    /// The chosen per-pixel pilot's V_g summed over the per-pixel partitions and the samples
+    /// per pixel it took (2k): a time budget's per-pixel phase pools it with its own samples
+    /// (renderPerPixel). Not in a shard plan.
+    double pixelPilotVariance = 0;
+    double pixelPilotSamples = 0;
 
     bool anyPerPixel() const {
         for (const Partition& p : partitions)
@@ -214,6 +219,7 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     // piloted: chains only).
     EffortPlan plan = planEffort(m.partitions, 0, choice, true);
     double pixelCost = 0;
+    const PixelPilot* chosenPilot = nullptr;
     for (size_t i = 0; i < m.pixelPilots.size(); ++i) {
         const PixelPilot& pilot = m.pixelPilots[i];
         std::vector<PartitionEffort> with = m.partitions;
@@ -224,6 +230,7 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
             pixelCost = pilot.cost;
             out.pixelEstimator = pilot.estimator;
             out.pixelVarianceRgb = pilot.varianceRgb;
+            chosenPilot = &pilot;
         }
     }
     addEffortStats(out.stats, m, plan, pixelCost, moveNames);
@@ -233,7 +240,10 @@ std::vector<uint64_t> chooseEffort(const RenderContext& ctx, const BootstrapSamp
     for (size_t g = 0; g < partitions.size(); ++g) {
         partitions[g].perPixel = plan.perPixel[g];
         anyPixel = anyPixel || plan.perPixel[g];
+        if (plan.perPixel[g] && chosenPilot && g < chosenPilot->variance.size())
+            out.pixelPilotVariance += chosenPilot->variance[g];
     }
+    if (chosenPilot) out.pixelPilotSamples = chosenPilot->samplesPerPixel;
     std::vector<uint64_t> perPartition(partitions.size(), 0);
     if (timed) {
         // Chains per partition in proportion to its mutation rate, share_g / c_g.
@@ -441,6 +451,8 @@ struct PerPixelRun {
     uint64_t spp = 0;
     double seconds = 0;
     bool reachedTarget = false;  // stopped at the target error (no chains to follow)
+    double pooledVariance = -1;  // a time budget's last re-read V (negative: none)
+    double share = -1;           // and the share it gave
 };
 
 /// A preview of the per-pixel phase: its partitions' images so far, the chains' partitions
@@ -489,12 +501,17 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     const bool timed = rs.budgetKind == BudgetKind::Seconds;
     const double pixels = double(rs.width) * rs.height;
     const uint64_t most = timed ? (uint64_t(1) << 20) : st.perPixelSpp;
-    const double share = timed ? st.pixelShare * std::max(0.0, rs.budget - secondsSince(start)) : 0;
+    const double timeLeft = std::max(0.0, rs.budget - secondsSince(start));
+    double share = timed ? st.pixelShare * timeLeft : 0;
     // With a target to watch and no chains to follow, the render's own estimate stops it.
     const bool watch = targetError > 0 && st.plan.chains.empty();
     PreviewSchedule previews(ctx);
     auto begin = Clock::now();
     out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
+    // A time budget's share is re-read from the samples so far (pooledPixelShare).
+    const bool reread =
+        timed && st.pixelPilotVariance > 0 && st.pixelShare > 0 && st.pixelShare < 1;
+    if (reread) out.renderer->keepOddHalf();
     ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
                               timed ? share : 0);
     progress.setPartitions(partitionProgress(st.partitions, nullptr, moves));
@@ -508,6 +525,13 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                              share - elapsed, watch);
         out.renderer->renderPass({out.spp, out.spp + n}, progress);
         out.spp += n;
+        if (reread) {
+            out.pooledVariance =
+                pooledVariance(st.pixelPilotVariance, st.pixelPilotSamples,
+                               out.renderer->perSampleLuminanceVariance(out.spp), double(out.spp));
+            out.share = rereadPixelShare(st.pixelShare, st.pixelPilotVariance, out.pooledVariance);
+            share = out.share * timeLeft;
+        }
         // The estimate (the dashboard's error curves) after every pass while a target is
         // watched, else by the chains' monitor's rule (a 1280x720 image's partitions take a
         // tenth of a second to resolve); a preview after the first pass, then once per
@@ -539,6 +563,10 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
 
 void addPerPixelStats(RenderStats& st, const PerPixelRun& run, double rays) {
     st.values["per_pixel_spp"] = double(run.spp);
+    if (run.share >= 0) {
+        st.values["per_pixel_share_reread"] = run.share;
+        st.values["per_pixel_variance_pooled"] = run.pooledVariance;
+    }
     st.values["per_pixel_seconds"] = run.seconds;
     st.values["per_pixel_rays"] = rays;
 }

@@ -134,6 +134,15 @@ void PerPixelPartitions::renderOnlyTiles(std::vector<size_t> tiles) {
     passes_->renderOnlyTiles(std::move(tiles));
 }
 
+void PerPixelPartitions::keepOddHalf() { passes_->keepOddHalf(); }
+
+double PerPixelPartitions::perSampleLuminanceVariance(uint64_t spp) const {
+    if (spp < 2) return 0;
+    HalfSplitError halves;
+    halves.setInterleaved(passes_->combinedSums(), passes_->oddHalfSums(), spp);
+    return halves.perSampleLuminanceVariance();
+}
+
 PilotTiles perPixelPilotTiles(int width, int height) {
     const int tilesX = (width + Film::kTileSize - 1) / Film::kTileSize;
     const int tilesY = (height + Film::kTileSize - 1) / Film::kTileSize;

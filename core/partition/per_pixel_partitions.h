@@ -56,6 +56,14 @@ class PerPixelPartitions {
     uint64_t rays() const;
     /// Only these film tiles from now on (SamplePassRenderer::renderOnlyTiles).
     void renderOnlyTiles(std::vector<size_t> tiles);
+    /// Sums the odd sample indices apart from now on (before the first pass): the samples' own
+    /// variance (perSampleLuminanceVariance). A combined-only film: 24 B a pixel.
+    void keepOddHalf();
+    /// With keepOddHalf, after `spp` samples [0, spp) of every pixel: the per-sample luminance
+    /// variance of the per-pixel partitions together, summed over pixels (the even and the
+    /// odd indices as two halves, HalfSplitError::perSampleLuminanceVariance); 0 before both
+    /// halves have a sample.
+    double perSampleLuminanceVariance(uint64_t spp) const;
 
     /// The film key of partition g (not a path type: a layer's name in this film); byParity,
     /// g's odd samples are under keyOf(partitions + g).

@@ -149,6 +149,32 @@ TEST(EffortPlan, TheDirectLightIsPerPixelWhateverItsChainsWouldGive) {
               (std::vector<bool>{true, false, false, false}));
 }
 
+TEST(EffortPlan, TheRereadShareIsThePlansWithTheNewVariance) {
+    // The per-pixel phase's re-read share equals the share planEffort gives with the per-pixel
+    // stratum's variance scaled (the estimators kept: partitions 0 and 1 per pixel here).
+    std::vector<PartitionEffort> parts = syntheticPartitions();
+    const double pixelCost = 1.5;
+    parts[0].alwaysPerPixel = parts[1].alwaysPerPixel = true;
+    for (PartitionEffort& p : parts) p.pixelVariance = p.alwaysPerPixel ? p.pixelVariance : 0;
+    const EffortPlan plan = planEffort(parts, pixelCost, EstimatorChoice::Chains, true);
+    ASSERT_GT(plan.pixelShare, 0.0);
+    ASSERT_LT(plan.pixelShare, 1.0);
+    const double v = parts[0].pixelVariance + parts[1].pixelVariance;
+    EXPECT_NEAR(rereadPixelShare(plan.pixelShare, v, v), plan.pixelShare, 1e-12);
+    for (double scale : {0.01, 0.5, 4.0, 1e4}) {
+        std::vector<PartitionEffort> scaled = parts;
+        scaled[0].pixelVariance *= scale;
+        scaled[1].pixelVariance *= scale;
+        const EffortPlan again = planEffort(scaled, pixelCost, EstimatorChoice::Chains, true);
+        EXPECT_NEAR(rereadPixelShare(plan.pixelShare, v, v * scale), again.pixelShare, 1e-9)
+            << scale;
+    }
+    // Pooled by sample counts; the pilot's alone before the phase's own has two samples.
+    EXPECT_EQ(pooledVariance(3.0, 8, 100.0, 1), 3.0);
+    EXPECT_EQ(pooledVariance(3.0, 8, 0.0, 10), 3.0);
+    EXPECT_NEAR(pooledVariance(3.0, 8, 100.0, 24), (8 * 3.0 + 24 * 100.0) / 32, 1e-12);
+}
+
 TEST(EffortPlan, ManyPartitionsUseTheRankedPrefixes) {
     // More partitions than the exhaustive search takes: the ranked prefixes, never worse than
     // all chains or all per pixel.
