@@ -1,5 +1,7 @@
 #include "render_scene.h"
 
+#include "path/short_edge_damping.h"
+
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 
@@ -48,6 +50,7 @@ void embreeError(void*, RTCError code, const char* message) {
 RenderScene::RenderScene(SceneData data)
     : data_(std::move(data)), embree_(std::make_unique<Embree>()) {
     bounds_ = data_.bounds();
+    if (!bounds_.empty()) shortEdge_ = kShortEdgeShare * length(bounds_.diagonal());
     prepareMeshes();
     buildAccel();
     buildLights();

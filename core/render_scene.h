@@ -8,6 +8,8 @@
 // frame). Texture coordinates are interpolated only for textured materials.
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <memory>
 #include <optional>
@@ -33,6 +35,11 @@ class RenderScene {
 
     const SceneData& data() const { return data_; }
     const Bounds3f& bounds() const { return bounds_; }
+    /// The length below which the chains' target damps a path's edge
+    /// (path/short_edge_damping.h): kShortEdgeShare of the bounding-box diagonal, or what
+    /// setShortEdge gave (tests, to make the damping act everywhere; 0: none).
+    float shortEdge() const { return shortEdge_; }
+    void setShortEdge(float length) { shortEdge_ = std::max(0.0f, length); }
 
     /// Closest hit along the ray, within (0, ray.tMax).
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
@@ -139,6 +146,7 @@ class RenderScene {
     SceneData data_;
     Material defaultMaterial_;
     Bounds3f bounds_;
+    float shortEdge_ = 0;
     std::vector<MeshInfo> meshes_;
     std::vector<TriangleInfo> triangles_;  // all meshes' triangles, mesh by mesh
     std::vector<Light> lights_;

@@ -38,6 +38,7 @@ void BootstrapSampler::forEachStrategy(uint64_t index, uint64_t& rays, bool keep
     Connector connector(scene_, camera_, keepPaths);
     bool pathTracer = estimator_ == StartupEstimator::PathTracer;
     if (pathTracer) connector.restrictToPathTracer();
+    connector.dampShortEdges(scene_.shortEdge());  // b* of the chains' target
     int cameraCount = int(cameraPath.size()), lightCount = int(lightPath.size());
     int maxS = pathTracer ? 1 : std::max(lightCount, 1);
     for (int t = 1; t <= cameraCount; ++t)
@@ -65,7 +66,10 @@ double BootstrapSampler::sample(uint64_t index, std::vector<BootstrapCandidate>&
     };
     forEachStrategy(
         index, rays, false, [&](int s, int t, const StrategySample& c, Connector&, Vec2f raster) {
-            float weight = c.weight * luminance(c.value) / (t >= 2 ? cameraScale : 1.0f);
+            // f* / p with the chains' target, lum(f) tau (short_edge_damping.h): b* and the
+            // starts are those of the target the chains sample.
+            float weight =
+                c.weight * luminance(c.value) * c.edgeDamping / (t >= 2 ? cameraScale : 1.0f);
             if (weight > 0 && std::isfinite(weight)) {
                 out.push_back({index, uint16_t(s), uint16_t(t), weight, c.type,
                                pixelOf(t >= 2 ? raster : c.raster)});

@@ -2,6 +2,8 @@
 
 #include "camera.h"
 #include "path/path.h"
+#include "path/short_edge_damping.h"
+#include "render_scene.h"
 
 namespace partita {
 
@@ -12,7 +14,10 @@ bool evaluatePath(const RenderScene& scene, const Camera& camera, MarkovPath& x)
     std::optional<Vec2f> raster = pathRaster(camera, x.vertices);
     if (!raster || !camera.inImportanceSupport(*raster)) return false;
     Rgb f = pathContribution(scene, camera, x.vertices, DiracVertices::Coefficient);
-    float fStar = luminance(f);
+    // The chains' target: lum(f) damped on very short edges (short_edge_damping.h).
+    ShortEdgeDamping damping(scene.shortEdge());
+    for (const PathVertex& v : x.vertices) damping.add(v.p);
+    float fStar = luminance(f) * damping.factor();
     if (!(fStar > 0) || !isFinite(f)) return false;
     x.f = f;
     x.fStar = fStar;

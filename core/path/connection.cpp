@@ -1,5 +1,7 @@
 #include "path/connection.h"
 
+#include "path/short_edge_damping.h"
+
 #include <cmath>
 
 #include "bsdfs/bound_bsdf.h"
@@ -68,12 +70,15 @@ void Connector::assemble(std::span<const PathVertex> camera, int t,
                          std::span<const PathVertex> light, int s) {
     path_.clear();
     densities_.clear();
+    ShortEdgeDamping damping(shortEdge_);
     auto add = [&](const PathVertex& v) {
         densities_.push_back({v.pdfFromEye, v.pdfFromLight, v.isConnectable()});
         if (keepPaths_) path_.push_back(v);
+        if (shortEdge_ > 0) damping.add(v.p);
     };
     for (int i = 0; i < t; ++i) add(camera[size_t(i)]);
     for (int j = s - 1; j >= 0; --j) add(light[size_t(j)]);
+    edgeDamping_ = damping.factor();
     const PathVertex& last = s > 0 ? light[0] : camera[size_t(t - 1)];
     info_.cameraConnectable = camera_.isConnectable() && !pathTracer_;  // no light tracing
     info_.lightHittable = isHittable(scene_, last.light);
@@ -102,6 +107,7 @@ StrategySample Connector::connect(std::span<const PathVertex> camera,
         path_[i].pdfFromLight = densities_[i].fromLight;
     }
     r.weight = weighted ? misWeight(densities_, t, info_, heuristic) : 1.0f;
+    r.edgeDamping = edgeDamping_;
     return r;
 }
 

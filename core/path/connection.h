@@ -31,6 +31,9 @@ struct StrategySample {
     float weight = 0;    // MIS weight
     PathType type;
     Vec2f raster;  // t == 1: the raster position the contribution belongs to
+    /// The chains' short-edge damping tau of the strategy's full path
+    /// (path/short_edge_damping.h), 1 unless the connector was asked for it (dampShortEdges).
+    float edgeDamping = 1;
 };
 
 class Connector {
@@ -44,6 +47,10 @@ class Connector {
     /// estimation (s = 1, t > 1), as the paper's pre-pass estimator; connect() must then only be
     /// called for those.
     void restrictToPathTracer() { pathTracer_ = true; }
+
+    /// Each sample's edgeDamping computed with edges below `shortEdge` damped (the bootstrap's:
+    /// b* is the integral of the chains' damped target).
+    void dampShortEdges(float shortEdge) { shortEdge_ = shortEdge; }
 
     /// Strategy (s, t) of the subpaths (which must hold at least t and s vertices). For s == 1
     /// a light vertex is sampled with `rng`. `rays` counts the shadow rays. The weight is
@@ -74,6 +81,8 @@ class Connector {
     const Camera& camera_;
     bool keepPaths_;
     bool pathTracer_ = false;
+    float shortEdge_ = 0;    // dampShortEdges; 0: edgeDamping stays 1
+    float edgeDamping_ = 1;  // of the last assemble()
     std::vector<PathVertex> path_;
     std::vector<VertexDensities> densities_;
     MisPathInfo info_;
