@@ -15,6 +15,7 @@
 #include "path/mis.h"
 #include "path/path.h"
 #include "path/random_walk.h"
+#include "path/short_edge_damping.h"
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_builders.h"
@@ -222,6 +223,18 @@ TEST(PathRepresentation, ASerialisedPathNamingNoSuchTriangleOrNoPointIsRefused) 
     std::memcpy(&nanBits, &nan, 4);
     for (const auto& bytes : {withField(8, 1000), withField(12, 1u << 30), withField(16, nanBits)})
         EXPECT_THROW(deserializePath(f.scene, f.camera, bytes), std::invalid_argument);
+}
+
+TEST(ShortEdgeDamping, MultipliesSquaredLengthsOverEpsBelowIt) {
+    // eps 1: edges of 0.5, 2 and 0.1 give 0.25 x 1 x 0.01; eps 0 damps nothing.
+    ShortEdgeDamping damping(1.0f);
+    for (Vec3f p : {Vec3f(0, 0, 0), Vec3f(0.5f, 0, 0), Vec3f(2.5f, 0, 0), Vec3f(2.6f, 0, 0)})
+        damping.add(p);
+    EXPECT_NEAR(damping.factor(), 0.25 * 0.01, 1e-6);
+    ShortEdgeDamping none(0.0f);
+    none.add(Vec3f(0, 0, 0));
+    none.add(Vec3f(1e-6f, 0, 0));
+    EXPECT_EQ(none.factor(), 1.0f);
 }
 
 }  // namespace
