@@ -344,6 +344,47 @@ DirectLightRun fixedDirectLightFirst(const RenderContext& ctx, const MltSettings
     return out;
 }
 
+/// A time budget's direct light after the chains' first stage (which cost `chainSeconds`): passes
+/// of about a quarter of a second until it has had the rule's share of `total` (the time after
+/// the bootstrap), the share recomputed after every pass with V_d pooled from the pilot and the
+/// samples so far (pooledDirectVariance) and the passes' own cost; at least one sample per pixel
+/// whatever the share (the chains never see direct paths) and, while the budget lasts, at least
+/// settings.directMinSpp (the variance is read from them). Sets direct's spp, variance, seconds
+/// (the pilot's included) and timeShare.
+void renderDirectForShare(const RenderContext& ctx, const MltSettings& settings,
+                          DirectLightRun& direct, const DirectPilot& pilot, double chainSeconds,
+                          double total, Clock::time_point start) {
+    const double budget = ctx.settings.budget;
+    const uint64_t minSpp = std::max<uint64_t>(1, settings.directMinSpp);
+    double perSpp = pilot.seconds / 2;
+    double share = neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
+    double directSeconds = pilot.seconds, passSeconds = 0;
+    ProgressReporter progress(ctx.observer, "render", "samples", 0);
+    while (direct.spp == 0 || (direct.spp < (uint64_t(1) << 20) && secondsSince(start) < budget &&
+                               (direct.spp < minSpp || directSeconds < share * total))) {
+        ctx.throwIfCancelled();
+        // Never past the share, but to the fewest samples; the first pass is one half's
+        // (passes alternate between the two): at most half the fewest, so that both halves hold
+        // samples when the variance is first read.
+        const double left = std::min(share * total - directSeconds, 0.25);
+        const double toMin = double(minSpp) - double(direct.spp);
+        uint64_t n =
+            uint64_t(std::clamp(std::max(toMin, left / std::max(perSpp, 1e-9)), 1.0, 4096.0));
+        if (direct.spp == 0) n = std::min(n, std::max<uint64_t>(1, minSpp / 2));
+        auto passStart = Clock::now();
+        direct.renderer->renderPass({direct.spp, direct.spp + n}, &progress);
+        direct.spp += n;
+        passSeconds += secondsSince(passStart);
+        directSeconds = pilot.seconds + passSeconds;
+        direct.variance = pooledDirectVariance(pilot.variance, direct.renderer->halves());
+        perSpp = passSeconds / double(direct.spp);
+        share = neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
+    }
+    progress.flush();
+    direct.seconds = directSeconds;
+    direct.timeShare = share;
+}
+
 }  // namespace
 
 RenderResult MltAlgorithm::render(const RenderContext& ctx) {
@@ -485,50 +526,15 @@ RenderResult MltAlgorithm::render(const RenderContext& ctx) {
             direct.chainError =
                 chainHalvesError(*halves.all, *halves.odd, halves.mutations[0], halves.mutations[1],
                                  halves.b, rs.width, rs.height);
-            double perSpp = pilot.seconds / 2;
-            double share =
-                neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
-            double directSeconds = pilot.seconds, passSeconds = 0;
-            ProgressReporter progress(ctx.observer, "render", "samples", 0);
-            // At least one sample per pixel, whatever the share: the chains never see direct
-            // paths, so without it the image would miss them. Then at least directMinSpp while
-            // the budget lasts (the variance is read from them), and the share.
-            const uint64_t minSpp = std::max<uint64_t>(1, settings_.directMinSpp);
-            while (direct.spp == 0 ||
-                   (direct.spp < (uint64_t(1) << 20) && secondsSince(start) < rs.budget &&
-                    (direct.spp < minSpp || directSeconds < share * total))) {
-                ctx.throwIfCancelled();
-                // Passes of about a quarter of a second, never past the share (but to the
-                // fewest samples).
-                const double left = std::min(share * total - directSeconds, 0.25);
-                const double toMin = double(minSpp) - double(direct.spp);
-                uint64_t n = uint64_t(
-                    std::clamp(std::max(toMin, left / std::max(perSpp, 1e-9)), 1.0, 4096.0));
-                // The first pass is one half's (passes alternate between the two): at most
-                // half the fewest, so both hold samples when the variance is first read.
-                if (direct.spp == 0) n = std::min(n, std::max<uint64_t>(1, minSpp / 2));
-                auto passStart = Clock::now();
-                direct.renderer->renderPass({direct.spp, direct.spp + n}, &progress);
-                direct.spp += n;
-                passSeconds += secondsSince(passStart);
-                directSeconds = pilot.seconds + passSeconds;
-                // The rule again after every pass, with V_d pooled from the pilot and the
-                // samples so far (pooledDirectVariance) and the passes' own cost.
-                direct.variance = pooledDirectVariance(pilot.variance, direct.renderer->halves());
-                perSpp = passSeconds / double(direct.spp);
-                share = neymanDirectShare(direct.variance, perSpp, direct.chainError, chainSeconds);
-            }
-            progress.flush();
-            direct.seconds = directSeconds;
+            renderDirectForShare(ctx, settings_, direct, pilot, chainSeconds, total, start);
             directImage = resolveDirectLight(direct.renderer->film(), direct.spp, rs.maxTypeLayers,
                                              &ctx.pool);
             directRenderer = direct.renderer.get();
-            startupSeconds = bootstrapSeconds + directSeconds;
+            startupSeconds = bootstrapSeconds + direct.seconds;
             const double elapsed = secondsSince(start);
             // A target reached in the first stage leaves the chains one more round.
             runChainsFor(ctx, runner, plan, elapsed, std::max(0.0, rs.budget - elapsed), resolve,
                          afterRound);
-            direct.timeShare = share;
         }
     }
     size_t directTypes = 0;
