@@ -107,6 +107,11 @@ ErrorSums HalfSplitError::errorSums() const {
     });
 }
 
+double pooledVariance(double pilot, double pilotSamples, double own, double samples) {
+    if (!(samples >= 2) || !(own > 0)) return pilot;
+    return (pilotSamples * pilot + samples * own) / (pilotSamples + samples);
+}
+
 double HalfSplitError::perSampleLuminanceVariance() const {
     if (!ready()) return 0;
     const double nA = double(samplesA_), nB = double(samplesB_), n = nA + nB;

@@ -54,6 +54,14 @@ ErrorSums imageErrorSums(const Image& image, double variance);
 /// sum to S2: Var / mean^2 = S2 / S1^2 - 1 / N (at least 0; infinite without a positive sum). A
 /// normalising constant's (b), for ErrorSums::addScaleVariance.
 double relativeVarianceOfMean(double sum, double sumSquares, double n);
+/// A per-sample variance measured by a pilot (`pilot` over its `pilotSamples` per pixel) and by
+/// the render's own samples so far (`own` over `samples`: HalfSplitError::
+/// perSampleLuminanceVariance), pooled by their counts; the pilot's alone until the render's
+/// own has two samples and a variance. The pilot's few samples miss what is bright and rare
+/// (pool: the light's glints in the water, about one hit in four passes over the image;
+/// docs/mlt-direct-light.md), the render's own samples see it: mlt's direct light and the
+/// partitioned methods' per-pixel phase re-read their share of a budget with this.
+double pooledVariance(double pilot, double pilotSamples, double own, double samples);
 
 class HalfSplitError {
   public:

@@ -1,7 +1,5 @@
 #include "render_scene.h"
 
-#include "path/short_edge_damping.h"
-
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 
@@ -12,6 +10,7 @@
 
 #include "material_mapping.h"
 #include "medium.h"
+#include "path/short_edge_damping.h"
 
 namespace partita {
 

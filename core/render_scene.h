@@ -9,7 +9,6 @@
 #pragma once
 
 #include <algorithm>
-
 #include <array>
 #include <memory>
 #include <optional>

@@ -204,7 +204,8 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     double mltBytes = mlt.bootstrap + mlt.chains;
     // Partitions estimated per pixel (partition/per_pixel_partitions.h, unless every partition
     // has chains): the per-pixel phase's film (the combined sums and one a per-pixel
-    // partition: K + 3 sums a pixel at most) and bdpt's splats, the per-pixel estimator it may
+    // partition: K + 3 sums a pixel at most; with a time budget one more, the odd samples'
+    // combined sums that re-read its share) and bdpt's splats, the per-pixel estimator it may
     // be. Before it, the pilots hold less: the per-pixel pilot one film over at most 65536
     // pixels' samples, the chains' pilot one partition's two halves at a time
     // (partition/effort_pilot.h). The phase ends with its partitions' images made (after its
@@ -216,7 +217,8 @@ MemoryEstimate estimateJobMemory(const std::string& algorithm, const RenderSetti
     if (hasPartitions(algorithm)) {
         const PartitionedSettings p = partitionedParameters().resolve(s.parameters);
         if (p.estimators != "chains")
-            perPixel = padded * kSum * (partitions + 1) + std::max(bdptExtraBytes(pixels), parts);
+            perPixel = padded * kSum * (partitions + 1 + (s.budgetKind == BudgetKind::Seconds)) +
+                       std::max(bdptExtraBytes(pixels), parts);
         else if (p.allocation != "p")  // the chains' pilot alone: two halves of one partition
             perPixel = padded * kSum * 2;
     }

@@ -176,11 +176,6 @@ EffortPlan planEffort(const std::vector<PartitionEffort>& partitions, double pix
     return plan;
 }
 
-double pooledVariance(double pilot, double pilotSamples, double own, double samples) {
-    if (!(samples >= 2) || !(own > 0)) return pilot;
-    return (pilotSamples * pilot + samples * own) / (pilotSamples + samples);
-}
-
 double rereadPixelShare(double planShare, double pilotVariance, double variance) {
     const double chains = std::sqrt(pilotVariance) * (1 - planShare) / planShare;
     const double pixels = std::sqrt(std::max(0.0, variance));

@@ -68,13 +68,6 @@ double errorTimesCost(const std::vector<PartitionEffort>& partitions, double pix
                       const std::vector<bool>& perPixel, const std::vector<double>& chainShare,
                       double pixelShare);
 
-/// A time budget's per-pixel phase re-reads its stratum's variance from its own samples: the
-/// pilot's few samples miss what is bright and rare (pool: the light's glints in the water,
-/// about one hit in four passes over the image; docs/mlt-direct-light.md). The pilot's V over
-/// its `pilotSamples` per pixel and the phase's own V over its `samples`, pooled by their counts
-/// (the pilot's alone before the phase has two samples or a variance).
-double pooledVariance(double pilot, double pilotSamples, double own, double samples);
-
 /// The plan's per-pixel share `planShare` (of the time, at the pilot's stratum variance V) with
 /// V' in its place and the partitions' estimators unchanged: sqrt(A_pp) scales by sqrt(V' / V)
 /// and the chains' sum of sqrt(A_g), sqrt(A_pp) (1 - f) / f, stays: the share planEffort gives

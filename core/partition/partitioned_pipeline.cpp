@@ -5,6 +5,7 @@
 
 #include "camera.h"
 #include "clock.h"
+#include "half_split_error.h"
 #include "mcmc/bootstrap.h"
 #include "mcmc/chain_error_monitor.h"
 #include "mcmc/chain_render.h"
@@ -508,10 +509,12 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
     PreviewSchedule previews(ctx);
     auto begin = Clock::now();
     out.renderer = std::make_unique<PerPixelPartitions>(ctx, st.partitions, st.pixelEstimator);
-    // A time budget's share is re-read from the samples so far (pooledPixelShare).
+    // A time budget's share is re-read from the samples so far (rereadPixelShare): two
+    // resolves of the combined sums, at most a twentieth of the phase's time.
     const bool reread =
         timed && st.pixelPilotVariance > 0 && st.pixelShare > 0 && st.pixelShare < 1;
     if (reread) out.renderer->keepOddHalf();
+    CostBoundedSchedule rereads(0, 20);
     ProgressReporter progress(ctx.observer, "render", "samples", timed ? 0 : double(most) * pixels,
                               timed ? share : 0);
     progress.setPartitions(partitionProgress(st.partitions, nullptr, moves));
@@ -525,12 +528,14 @@ PerPixelRun renderPerPixel(const RenderContext& ctx, const PartitionedStart& st,
                              share - elapsed, watch);
         out.renderer->renderPass({out.spp, out.spp + n}, progress);
         out.spp += n;
-        if (reread) {
+        if (reread && out.spp >= 2 && rereads.due()) {
+            const auto rereading = Clock::now();
             out.pooledVariance =
                 pooledVariance(st.pixelPilotVariance, st.pixelPilotSamples,
                                out.renderer->perSampleLuminanceVariance(out.spp), double(out.spp));
             out.share = rereadPixelShare(st.pixelShare, st.pixelPilotVariance, out.pooledVariance);
             share = out.share * timeLeft;
+            rereads.ran(rereading);
         }
         // The estimate (the dashboard's error curves) after every pass while a target is
         // watched, else by the chains' monitor's rule (a 1280x720 image's partitions take a

@@ -1,13 +1,12 @@
 #include "path/connection.h"
 
-#include "path/short_edge_damping.h"
-
 #include <cmath>
 
 #include "bsdfs/bound_bsdf.h"
 #include "camera.h"
 #include "light_emission.h"
 #include "path/random_walk.h"
+#include "path/short_edge_damping.h"
 #include "path/transmittance.h"
 #include "render_scene.h"
 

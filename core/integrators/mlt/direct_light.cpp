@@ -188,10 +188,8 @@ double chainHalvesError(const Film& all, const Film& half, uint64_t mutationsA, 
 
 double pooledDirectVariance(double pilotVariance, const HalfSplitError& own) {
     constexpr double kPilotSamples = 2;
-    const double n = double(own.samplesA() + own.samplesB());
-    if (!own.ready()) return pilotVariance;
-    return (kPilotSamples * pilotVariance + n * own.perSampleLuminanceVariance()) /
-           (kPilotSamples + n);
+    return pooledVariance(pilotVariance, kPilotSamples, own.perSampleLuminanceVariance(),
+                          double(own.samplesA() + own.samplesB()));
 }
 
 uint64_t neymanDirectSpp(double directVariance, double directCost, double chainError,

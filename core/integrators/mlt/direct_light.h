@@ -121,8 +121,8 @@ struct DirectPilot {
 DirectPilot runDirectPilot(const RenderContext& ctx, ProgressReporter* progress);
 
 /// V_d from the pilot's two samples per pixel and the direct light's own samples so far (its
-/// halves, keepHalves), pooled by their counts: (2 V_pilot + n V_own) / (2 + n), V_own from
-/// HalfSplitError::perSampleLuminanceVariance. The pilot alone misses what is bright and rare:
+/// halves, keepHalves), pooled by their counts (half_split_error.h's pooledVariance:
+/// (2 V_pilot + n V_own) / (2 + n)). The pilot alone misses what is bright and rare:
 /// on pool the light's glints in the water reach a pixel in 1 of ~60 samples, about one hit
 /// in four passes over the image, so two pilot samples see none in most seeds and put V_d 10^4
 /// times too low (the direct light got 5 samples per pixel, and its glints 90% of the image's

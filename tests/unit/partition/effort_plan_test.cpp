@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "half_split_error.h"
 #include "partition/effort_plan.h"
 #include "rng.h"
 #include "statistics.h"
